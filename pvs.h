@@ -1,4 +1,4 @@
-/* pvs.h - v0.9.4 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.9.5 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -153,7 +153,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 9
-#define PVS_VERSION_PATCH 4
+#define PVS_VERSION_PATCH 5
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 1
 
@@ -515,7 +515,8 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positio
    as pvs_raster_triangles, plus every pixel a triangle touches and no boundary edge does, at the farthest depth over
    it of the touching triangles of its facing. Boundary edges (cracks remain): edges not shared by exactly two
    triangles (by index or position), silhouettes, edges between oppositely wound triangles, near-plane cuts and the
-   edges they cut, edges between pieces of max_mesh_triangles. Errors as pvs_raster_triangles; SIMD gives the same. */
+   edges they cut, edges of triangles already hidden (tiled) and between pieces of max_mesh_triangles. Errors as
+   pvs_raster_triangles; SIMD gives the same. */
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 								   const uint32_t *indices, uint32_t count);
 /* A draw with Masked Occlusion Culling's per-call options: vertices in the caller's struct, back-face culling. */
@@ -3492,10 +3493,13 @@ struct pvs_raster {
 	uint32_t *mcid, *mpart; /* 3 mesh_cap: welded vertex per corner; partner half-edge */
 	uint8_t *mvst; /* 3 mesh_cap: corner state against the clip planes */
 	int8_t *mgrp; /* mesh_cap: facing +1 / -1, 0 = left out */
-	uint32_t *mtab, *morder, *mact, *mband;	/* hash slots; mesh_cap; mesh_cap; th + 1 */
+	uint32_t *mtab, *morder, *mact, *mband;	/* hash slots; mesh_cap (first the piece); mesh_cap; th + 1 */
+	uint32_t mcn; /* the piece's triangles */
+	int32_t mlo, mhi; /* tiles the band's strips touch */
+	int mon; /* pvs__raster_occluders collects the piece */
 	float *mzmin; /* 4 width: least bound of touching triangles */
 	uint8_t *mflag; /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
-	uint8_t *mdirty; /* 4 tw: band words the scratch holds */
+	uint32_t *mdirty; /* 4 tw: pixels of band words the scratch holds (bit k: column 32 tx + k) */
 	const pvs_scene *scene;
 	uint32_t max_objects, max_triangles;
 	void *sweep;
@@ -4395,9 +4399,9 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 		f = (float)(int32_t)xmax; i1 = (int32_t)xmax - (f > xmax) - 1;
 		f = (float)(int32_t)ymin; j0 = (int32_t)ymin + (f < ymin);
 		f = (float)(int32_t)ymax; j1 = (int32_t)ymax - (f > ymax) - 1;
-		if (i0 > i1 || j0 > j1) { draw &= ~(1u << l); continue; }
 		box[0][l] = i0; box[1][l] = i1; box[2][l] = j0; box[3][l] = j1;
 		zmax[l] = zm;
+		if (i0 > i1 || j0 > j1) { draw &= ~(1u << l); *test |= 16u << l; continue; } /* no whole pixel: bit 4 + l */
 		*test |= 1u << l;
 	}
 	return draw;
@@ -4474,14 +4478,15 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 	i1 = pvs__i4_sub(pvs__f4_floori(xmax), pvs__i4_set1(1));
 	j0 = pvs__f4_ceili(ymin);
 	j1 = pvs__i4_sub(pvs__f4_floori(ymax), pvs__i4_set1(1));
+	tst = (unsigned)pvs__m4_bits(t);
+	*test = tst & ~(unsigned)pvs__m4_bits(pvs__m4_or(pvs__i4_gt(i0, i1), pvs__i4_gt(j0, j1)));
+	*test |= (tst & ~*test) << 4; /* no whole pixel, as pvs__pf_scalar */
 	pvs__i4_store(box[0], i0);
 	pvs__i4_store(box[1], i1);
 	pvs__i4_store(box[2], j0);
 	pvs__i4_store(box[3], j1);
 	pvs__f4_store(zmax, zm);
-	tst = (unsigned)pvs__m4_bits(t);
-	*test = tst & ~(unsigned)pvs__m4_bits(pvs__m4_or(pvs__i4_gt(i0, i1), pvs__i4_gt(j0, j1)));
-	return (all ^ 15u) & ~(tst & ~*test);
+	return (all ^ 15u) & ~(tst & ~*test & 15u);
 }
 #endif
 
@@ -4554,17 +4559,18 @@ typedef struct pvs__qtri {
 #define PVS__QBAND(r, b) ((int32_t)((b) * (r)->bh / PVS_RASTER_PARTS) << PVS__BLOCK_SHIFT) /* 1st tile row */
 
 /* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene triangles tris) through the prefilter, four at
-   a time; part < PVS_RASTER_PARTS: kept for the bands, else drawn unless hidden. */
-PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count, uint32_t stride,
-									   const uint32_t *indices, const pvs__occsel *tris, uint32_t t0, uint32_t t1,
-									   int cull, uint32_t draw, uint32_t part) {
+   a time; part < PVS_RASTER_PARTS: kept for the bands, else drawn unless hidden. r->mon: a mesh piece (occluder
+   meshes) until full; returns where it stopped. */
+PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
+										   uint32_t stride, const uint32_t *indices, const pvs__occsel *tris,
+										   uint32_t t0, uint32_t t1, int cull, uint32_t draw, uint32_t part) {
 	uint32_t t, l, k, id[4];
 	const float *v[4][3];
 	float last[4], zmax[4];
 	unsigned keep, test;
 	int n;
 	int32_t box[4][4];
-	if (!vertex_count) return;
+	if (!vertex_count) return t1;
 	memcpy(last, positions + (size_t)(vertex_count - 1) * stride, 3 * sizeof(float)); /* for SIMD's 4-float reads */
 	last[3] = 0.0f;
 	for (t = t0; t < t1; t += 4) {
@@ -4586,23 +4592,29 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 #endif
 			keep = pvs__pf_scalar(r, (const float *const(*)[3])v, &test, box, zmax, 4, cull);
 		keep &= (1u << n) - 1u;
-		for (l = 0; keep; ++l, keep >>= 1) {
+		for (l = 0; l < (uint32_t)n; ++l) {
 			pvs__tlim lim = {0, INT32_MAX, 0, INT32_MAX, FLT_MAX, 0};
-			if (!(keep & 1u)) continue;
-			if (part < PVS_RASTER_PARTS) { /* kept for its rows' bands (untested: all) */
+			lim.cull = cull;
+			if ((keep >> l) & 1u && part < PVS_RASTER_PARTS) { /* kept for its rows' bands (untested: all) */
 				uint32_t i = r->qcount[PVS_RASTER_PARTS + part] + r->qcount[part]++, tst = (test >> l) & 1u;
 				pvs__qtri *q = r->qtri + i;
 				q->draw = draw, q->tri = id[l], q->zmax = zmax[l], q->test = tst | (uint32_t)(cull + 1) << 1;
 				for (k = 0; k < 4; ++k) q->box[k] = box[k][l];
 				r->qrows[i] = tst ? (uint16_t)(r->qband[box[2][l] >> 5] | r->qband[box[3][l] >> 5] << 8)
 								  : (uint16_t)((PVS_RASTER_PARTS - 1) << 8);
-				continue;
+			} else if ((keep >> l) & 1u && (!((test >> l) & 1u) || pvs__tlim_box(r, box, (int)l, zmax[l], &lim))) {
+				pvs__raster_tri(r, v[l][0], v[l][1], v[l][2], 1, &lim);
+				if (r->mon) r->morder[r->mcn++] = id[l];
+			} else if (r->mon && (test >> (4 + l)) & 1u) { /* no whole pixel: hidden one pixel wider? */
+				box[0][l] -= box[0][l] > 0, box[1][l] += box[1][l] + 1 < (int32_t)r->width;
+				box[2][l] -= box[2][l] > 0, box[3][l] += box[3][l] + 1 < (int32_t)r->height;
+				if (box[0][l] <= box[1][l] && box[2][l] <= box[3][l] && !pvs__pf_hidden(r, box, (int)l, zmax[l]))
+					r->morder[r->mcn++] = id[l];
 			}
-			lim.cull = cull;
-			if ((test >> l) & 1u && !pvs__tlim_box(r, box, (int)l, zmax[l], &lim)) continue;
-			pvs__raster_tri(r, v[l][0], v[l][1], v[l][2], 1, &lim);
 		}
+		if (r->mon && r->mcn + 4 > r->mesh_cap) return t + 4;
 	}
+	return t1;
 }
 
 /* Triangles one by one (pvs__tri_corners; out-of-range vertices: skipped); tiled occluders via prefilter. */
@@ -4634,18 +4646,18 @@ PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, 
 
    Two passes: triangles by ordinary occluder path, then mesh pass over strips where an edge may meet a pixel
    (wider than first pass's float margins): a strip pixel no edge meets lies in one polygon surely meeting it, else
-   edges split it among polygons whose strips hold it. One code path (double; float depth in pixel loops): SIMD and
-   scalar agree. ---- */
+   edges split it among polygons whose strips hold it. That needs per pixel only those polygons, with all their edges
+   there: so a piece takes the triangles the prefilter draws or (no whole pixel) finds unhidden one pixel wider (one
+   left out makes its shared edges boundary edges), leaves out polygons without internal edges and runs strips only
+   between the columns internal edges may meet. One code path (double; float depth in pixel loops). ---- */
 
 #define PVS__MESH_NONE 0xffffffffu
 #define PVS__MESH_MULTI 0xfffffffeu
-#define PVS__MESH_DEFAULT 4096u
 #define PVS__MESH_MAXV 5 /* triangle clipped by two planes */
 
 typedef struct pvs__mtri {
 	int32_t i0, i1, j0, j1; /* pixels it may meet, clamped (empty: i0 > i1 or j0 > j1) */
 	int n; /* polygon vertices, 3..5 */
-	int full; /* non-zero-length edges (inner test needs 3) */
 	uint8_t lab[PVS__MESH_MAXV];	/* edge k (vertex k to k + 1): triangle edge 0..2 or PVS__MESH_CLIP */
 	uint8_t bnd[PVS__MESH_MAXV];	/* 1: boundary edge */
 	double x[PVS__MESH_MAXV], y[PVS__MESH_MAXV];
@@ -4663,7 +4675,8 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 	const pvs__cv *p = v;
 	const uint8_t *lab = l0;
 	double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height, perr = 0.0, zerr = 0.0, z[PVS__MESH_MAXV];
-	double mag = 0.0, zmag = 0.0, zmin = 0.0, ox, oy, iw, jh, span, noise;
+	double mag, zmag, ox, oy, iw, jh, span, noise;
+	pvs__polyext x;
 	int i, n = 3;
 	for (i = 0; i < 3; ++i)
 		if (!(v[i].c[3] - v[i].c[2] >= 0.0) || !(v[i].c[3] >= 1e-30)) break;
@@ -4678,19 +4691,11 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 	t->n = n;
 	for (i = 0; i < n; ++i) {
 		pvs__raster_project(p + i, hw, hh, t->x + i, t->y + i, z + i, &perr, &zerr);
-		if (!(t->x[i] == t->x[i] && t->y[i] == t->y[i] && z[i] == z[i])) return 0;
 		t->lab[i] = lab[i];
 		t->bnd[i] = 1;
-		if (i == 0) {
-			t->xmin = t->xmax = t->x[0]; t->ymin = t->ymax = t->y[0]; zmin = z[0];
-		} else {
-			t->xmin = pvs__dmin(t->xmin, t->x[i]); t->xmax = pvs__dmax(t->xmax, t->x[i]);
-			t->ymin = pvs__dmin(t->ymin, t->y[i]); t->ymax = pvs__dmax(t->ymax, t->y[i]);
-			zmin = pvs__dmin(zmin, z[i]);
-		}
-		mag = pvs__dmax(mag, pvs__dabs(t->x[i]) + pvs__dabs(t->y[i]));
-		zmag = pvs__dmax(zmag, pvs__dabs(z[i]));
 	}
+	if (!pvs__poly_extent(t->x, t->y, z, n, &x)) return 0;
+	t->xmin = x.xmin, t->xmax = x.xmax, t->ymin = x.ymin, t->ymax = x.ymax, mag = x.mag, zmag = x.zmag;
 	if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG) || !(perr < PVS__RASTER_BIG) || !(zerr < PVS__RASTER_BIG)) return 0;
 	t->dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr;
 	t->wide = (mag + (double)r->width + (double)r->height + 1.0) * (1.0 / 16384.0);
@@ -4705,7 +4710,6 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 	jh = pvs__dmax(0.0, (double)(t->j1 - t->j0));
 	/* double rounding at pixel corners (X, Y <= mag + map size) is far below this */
 	noise = PVS__RASTER_ERR_D * (mag + (double)r->width + (double)r->height + 4.0);
-	t->full = 0;
 	for (i = 0; i < n; ++i) {
 		int j = i + 1 == n ? 0 : i + 1;
 		double a = t->y[i] - t->y[j], b = t->x[j] - t->x[i], len;
@@ -4723,10 +4727,9 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 		/* line through vertices off by dx (pvs__raster_poly's bound), plus evaluation */
 		t->e[i] = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) *
 					  (1.0 + (pvs__dabs(ox - t->x[i]) + pvs__dabs(oy - t->y[i]) + iw + jh + 2.0) / len) + noise;
-		++t->full;
 	}
 	span = (t->xmax - t->xmin) + (t->ymax - t->ymin);
-	t->zclamp = pvs__f_down(zmin - PVS__RASTER_ERR_D * zmag - zerr);
+	t->zclamp = pvs__f_down(x.zmin - PVS__RASTER_ERR_D * zmag - zerr);
 	pvs__raster_zplane(t->x, t->y, z, n, ox, oy, iw, jh, span, mag, zmag, perr, zerr, 1, &t->za, &t->zb, &t->zk);
 	return 1;
 }
@@ -4744,7 +4747,7 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
 	}
 	X = (t - c) / a;
 	if (a > 0.0) { /* keep i >= X */
-		i = X > (double)*hi ? *hi + 1 : X > (double)*lo ? (int32_t)ceil(X) : *lo;
+		i = X > (double)*hi ? *hi + 1 : X > (double)*lo ? (int32_t)X : *lo; /* the loops settle it */
 		for (s = 0; s < 3 && i > *lo && a * (double)(i - 1) + c >= t; ++s) --i;
 		for (s = 0; s < 3 && i <= *hi && !(a * (double)i + c >= t); ++s) ++i;
 		if (outer) {
@@ -4754,7 +4757,7 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
 		}
 		*lo = i;
 	} else { /* keep i <= X */
-		i = X < (double)*lo ? *lo - 1 : X < (double)*hi ? (int32_t)floor(X) : *hi;
+		i = X < (double)*lo ? *lo - 1 : X < (double)*hi ? (int32_t)X : *hi;
 		for (s = 0; s < 3 && i < *hi && a * (double)(i + 1) + c >= t; ++s) ++i;
 		for (s = 0; s < 3 && i >= *lo && !(a * (double)i + c >= t); ++s) --i;
 		if (outer) {
@@ -4766,16 +4769,34 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
 	}
 }
 
-/* Polygon t on row j of band jb, along its edges: over pixels an edge may meet, its least depth bound; flag 1: surely
-   meets pixel, 2: a boundary edge may. rlo, rhi: touched columns per row. */
-PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int32_t jb, int32_t *rlo, int32_t *rhi) {
+/* Polygon t on row j of band jb, along its edges (between the columns its internal edges may meet): over pixels an
+   edge may meet, its least depth bound; flag 1: surely meets pixel, 2: a boundary edge may. */
+PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int32_t jb) {
 	const uint32_t W = r->width;
 	float *zm = r->mzmin + (size_t)(j - jb) * W;
-	uint8_t *fl = r->mflag + (size_t)(j - jb) * W, *dw = r->mdirty + (size_t)(j - jb) * r->tw;
+	uint8_t *fl = r->mflag + (size_t)(j - jb) * W;
+	uint32_t *dw = r->mdirty + (size_t)(j - jb) * r->tw;
 	float fj = (float)(j - t->j0), rz = t->zk + t->zb * fj, d;
 	double dj = (double)j;
-	int32_t lo, hi, clo = 0, chi = -1, i;
+	int32_t lo[PVS__MESH_MAXV], hi[PVS__MESH_MAXV], clo = 0, chi = -1, i, u = INT32_MAX, v = -1;
 	int e;
+	for (e = 0; e < t->n; ++e) { /* each edge: pixels whose closed square it may meet (extents and line) */
+		int f = e + 1 == t->n ? 0 : e + 1;
+		double w = t->dx + t->wide;
+		lo[e] = 1, hi[e] = 0;
+		if (dj + 1.0 < pvs__dmin(t->y[e], t->y[f]) - w || dj > pvs__dmax(t->y[e], t->y[f]) + w) continue;
+		lo[e] = pvs__clampi(ceil(pvs__dmin(t->x[e], t->x[f]) - w) - 1.0, t->i0, t->i1 + 1);
+		hi[e] = pvs__clampi(floor(pvs__dmax(t->x[e], t->x[f]) + w), t->i0 - 1, t->i1);
+		if (t->a[e] != 0.0 || t->b[e] != 0.0) {
+			double m = t->e[e] + t->wide;
+			pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), -m, 1,
+						  lo + e, hi + e);
+			pvs__mesh_cut(-t->a[e], -(t->b[e] * dj + t->k[e] + pvs__dmin(0.0, t->a[e]) + pvs__dmin(0.0, t->b[e])), -m,
+						  1, lo + e, hi + e);
+		}
+		if (!t->bnd[e] && lo[e] <= hi[e]) u = lo[e] < u ? lo[e] : u, v = hi[e] > v ? hi[e] : v;
+	}
+	if (v < 0) return;
 	/* surely meets: extents overlap pixel, no edge separates */
 	if (dj + 1.0 >= t->ymin + t->dx && dj <= t->ymax - t->dx) {
 		clo = pvs__clampi(ceil(t->xmin + t->dx) - 1.0, t->i0, t->i1 + 1);
@@ -4785,94 +4806,50 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
 				pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]),
 							  t->e[e], 0, &clo, &chi);
 	}
-	/* each edge: pixels whose closed square it may meet (extents and line) */
 	for (e = 0; e < t->n; ++e) {
-		int f = e + 1 == t->n ? 0 : e + 1;
-		double sx0, sx1, sy0, sy1;
-		uint8_t bit = t->bnd[e] ? 2u : 0u;
-		sy0 = pvs__dmin(t->y[e], t->y[f]) - t->dx - t->wide;
-		sy1 = pvs__dmax(t->y[e], t->y[f]) + t->dx + t->wide;
-		if (dj + 1.0 < sy0 || dj > sy1) continue;
-		sx0 = pvs__dmin(t->x[e], t->x[f]) - t->dx - t->wide;
-		sx1 = pvs__dmax(t->x[e], t->x[f]) + t->dx + t->wide;
-		lo = pvs__clampi(ceil(sx0) - 1.0, t->i0, t->i1 + 1);
-		hi = pvs__clampi(floor(sx1), t->i0 - 1, t->i1);
-		if (t->a[e] != 0.0 || t->b[e] != 0.0) {
-			double m = t->e[e] + t->wide;
-			pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), -m, 1,
-						  &lo, &hi);
-			pvs__mesh_cut(-t->a[e], -(t->b[e] * dj + t->k[e] + pvs__dmin(0.0, t->a[e]) + pvs__dmin(0.0, t->b[e])), -m,
-						  1, &lo, &hi);
-		}
-		if (lo > hi) continue;
-		for (i = lo; i <= hi; ++i) {
+		if (t->bnd[e]) lo[e] = lo[e] > u ? lo[e] : u, hi[e] = hi[e] < v ? hi[e] : v;
+		if (lo[e] > hi[e]) continue;
+		for (i = lo[e]; i <= hi[e]; ++i) {
 			d = rz + t->za * (float)(i - t->i0);
 			d = d < t->zclamp ? t->zclamp : d;
 			if (d < zm[i]) zm[i] = d;
-			fl[i] |= (uint8_t)(bit | (i >= clo && i <= chi ? 1u : 0u));
+			fl[i] |= (uint8_t)((t->bnd[e] ? 2u : 0u) | (i >= clo && i <= chi ? 1u : 0u));
 		}
-		rlo[j - jb] = lo < rlo[j - jb] ? lo : rlo[j - jb];
-		rhi[j - jb] = hi > rhi[j - jb] ? hi : rhi[j - jb];
-		for (i = lo >> PVS__TW_SHIFT; i <= hi >> PVS__TW_SHIFT; ++i) dw[i] = 1;
+		for (i = lo[e] >> 5; i <= hi[e] >> 5; ++i) dw[i] |= pvs__tile_bits(lo[e], hi[e], i << 5);
+		r->mlo = lo[e] >> 5 < r->mlo ? lo[e] >> 5 : r->mlo, r->mhi = hi[e] >> 5 > r->mhi ? hi[e] >> 5 : r->mhi;
 	}
 }
 
-/* A band pixel's claimed depth (PVS_DEPTH_EMPTY: none); resets its scratch. */
-PVS__STATIC float pvs__mesh_take(pvs_raster *r, size_t q) {
-	float z = PVS_DEPTH_EMPTY;
-	if (r->mflag[q] == 1u && r->mzmin[q] < FLT_MAX && r->mzmin[q] > z) z = r->mzmin[q];
-	r->mzmin[q] = FLT_MAX;
-	r->mflag[q] = 0;
-	return z;
-}
-
-/* Writes band b's claimed pixels to depth map or, tiled, per tile as a mask at the least claimed depth. */
-PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, const int32_t *rhi) {
+/* Writes band b's claimed pixels (flag 1 and a bound) to depth map or, tiled, per tile as a mask at the least claimed
+   depth; resets the scratch. */
+PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b) {
 	const uint32_t W = r->width;
-	int32_t lo = INT32_MAX, hi = -1, i, d, tx;
+	int32_t i, d, tx;
+	size_t q;
 	float z;
-	for (d = 0; d < PVS__TH; ++d) {
-		lo = rlo[d] < lo ? rlo[d] : lo;
-		hi = rhi[d] > hi ? rhi[d] : hi;
-	}
-	if (lo > hi) return;
-	if (!r->tiled) {
-		for (d = 0; d < PVS__TH; ++d) {
-			float *row = r->depth + (size_t)(PVS__TH * b + (uint32_t)d) * W;
-			uint8_t *dw = r->mdirty + (size_t)d * r->tw;
-			for (i = rlo[d]; i <= rhi[d]; ++i) {
-				if (!dw[i >> PVS__TW_SHIFT]) {
-					i |= 31;
-					continue;
-				}
-				z = pvs__mesh_take(r, (size_t)d * W + (size_t)i);
-				if (z > row[i]) row[i] = z;
-			}
-			if (rlo[d] <= rhi[d])
-				for (tx = rlo[d] >> PVS__TW_SHIFT; tx <= rhi[d] >> PVS__TW_SHIFT; ++tx) dw[tx] = 0;
-		}
-		return;
-	}
-	for (tx = lo >> PVS__TW_SHIFT; tx <= hi >> PVS__TW_SHIFT; ++tx) {
+	for (tx = r->mlo; tx <= r->mhi; ++tx) {
 		int32_t x0 = tx << PVS__TW_SHIFT;
-		uint32_t cov[PVS__TH], any = 0, pad[PVS__TH];
+		uint32_t cov[PVS__TH], any = 0, pad[PVS__TH], m;
 		float zt = FLT_MAX, z0;
-		pvs__tile *tl = r->tile + (size_t)b * r->tw + (size_t)tx;
+		pvs__tile *tl;
 		for (d = 0; d < PVS__TH; ++d) {
-			int32_t a0 = rlo[d] > x0 ? rlo[d] : x0, a1 = rhi[d] < x0 + 31 ? rhi[d] : x0 + 31;
-			uint8_t *dw = r->mdirty + (size_t)d * r->tw + (uint32_t)tx;
+			uint32_t *dw = r->mdirty + (size_t)d * r->tw + (uint32_t)tx;
 			cov[d] = 0;
 			pad[d] = (b == r->th - 1 && (uint32_t)d >= r->ypad ? ~0u : 0u) | ((uint32_t)tx == r->tw - 1 ? r->xpad : 0u);
-			if (!*dw) continue;
-			*dw = 0;
-			for (i = a0; i <= a1; ++i) {
-				z = pvs__mesh_take(r, (size_t)d * W + (size_t)i);
-				if (z == PVS_DEPTH_EMPTY) continue;
+			for (m = *dw, *dw = 0; m; m &= m - 1) {
+				q = (size_t)d * W + (size_t)(i = x0 + (int32_t)pvs__ctz64(m));
+				z = r->mflag[q] == 1u ? r->mzmin[q] : FLT_MAX;
+				r->mzmin[q] = FLT_MAX, r->mflag[q] = 0;
+				if (!(z < FLT_MAX && z > PVS_DEPTH_EMPTY)) continue;
+				q += (size_t)PVS__TH * b * W;
+				if (!r->tiled && z > r->depth[q]) r->depth[q] = z;
 				cov[d] |= 1u << (i - x0);
 				zt = z < zt ? z : zt;
 			}
 			any |= cov[d];
 		}
+		if (!r->tiled) continue;
+		tl = r->tile + (size_t)b * r->tw + (size_t)tx;
 		if (!any || !(zt > tl->z0)) continue;
 		/* unlike pvs__tile_merge, spare layer (edge pixels: few, often farther): union at farther depth if zt is
 		   no farther, tile fills or layer loses <= 1/8 of its lead; a new layer if none */
@@ -4899,33 +4876,26 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
 /* Draws piece's polygons of facing g in bands of four rows, active list sorted by first band. */
 PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
 	uint32_t *cnt = r->mband, *order = r->morder, *act = r->mact, t, m = 0, pos = 0, na = 0, b = 0, k, keep;
-	int32_t rlo[PVS__TH], rhi[PVS__TH], j;
-	int d;
+	int32_t j;
 	for (b = 0; b <= r->th; ++b) cnt[b] = 0;
 	for (t = 0; t < n; ++t) {
 		const pvs__mtri *p = r->mt + t;
-		if (r->mgrp[t] != g || p->i0 > p->i1 || p->j0 > p->j1) continue;
-		++cnt[((uint32_t)p->j0 >> PVS__TH_SHIFT) + 1];
-		++m;
+		if (r->mgrp[t] == g && p->i0 <= p->i1 && p->j0 <= p->j1) act[m++] = t, ++cnt[(p->j0 >> PVS__TH_SHIFT) + 1];
 	}
 	if (!m) return;
 	for (b = 0; b < r->th; ++b) cnt[b + 1] += cnt[b];
-	for (t = 0; t < n; ++t) {
-		const pvs__mtri *p = r->mt + t;
-		if (r->mgrp[t] != g || p->i0 > p->i1 || p->j0 > p->j1) continue;
-		order[cnt[(uint32_t)p->j0 >> PVS__TH_SHIFT]++] = t;
-	}
+	for (k = 0; k < m; ++k) order[cnt[r->mt[act[k]].j0 >> PVS__TH_SHIFT]++] = act[k];
 	while (pos < m || na) {
 		if (!na) b = (uint32_t)r->mt[order[pos]].j0 >> PVS__TH_SHIFT;
 		while (pos < m && (uint32_t)r->mt[order[pos]].j0 >> PVS__TH_SHIFT == b) act[na++] = order[pos++];
-		for (d = 0; d < PVS__TH; ++d) { rlo[d] = INT32_MAX; rhi[d] = -1; }
+		r->mlo = INT32_MAX, r->mhi = -1;
 		for (k = 0; k < na; ++k) {
 			const pvs__mtri *p = r->mt + act[k];
 			int32_t jb = (int32_t)(b << PVS__TH_SHIFT), ja = p->j0 > jb ? p->j0 : jb,
 					jz = p->j1 < jb + 3 ? p->j1 : jb + 3;
-			for (j = ja; j <= jz; ++j) pvs__mesh_row(r, p, j, jb, rlo, rhi);
+			for (j = ja; j <= jz; ++j) pvs__mesh_row(r, p, j, jb);
 		}
-		pvs__mesh_claim(r, b, rlo, rhi);
+		pvs__mesh_claim(r, b);
 		for (k = keep = 0; k < na; ++k)
 			if ((uint32_t)r->mt[act[k]].j1 >> PVS__TH_SHIFT > b) act[keep++] = act[k];
 		na = keep;
@@ -4960,7 +4930,7 @@ PVS__STATIC uint32_t pvs__mesh_weld(const pvs_raster *r, uint32_t hs, const floa
 }
 
 /* Triangle t (q: vertex indices): welds corners (r->mcid), transforms, clips, prepares (r->mt[t]), marks corners
-   against clip planes (r->mvst). r->mgrp[t]: facing, or 0 (bad, hidden, degenerate, clipped, unsure). */
+   against clip planes (r->mvst). r->mgrp[t]: facing, or 0 (bad, degenerate, clipped, unsure). */
 PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs,
 							   uint32_t t) {
 	uint32_t k, *cid = r->mcid;
@@ -4976,16 +4946,6 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
 		}
 	}
 	if (!ok) return;
-	if (r->tiled) { /* hidden behind earlier pieces: no change; its edges become boundary edges */
-		const float *pv[4][3];
-		unsigned test;
-		int32_t box[4][4];
-		float zmax[4];
-		pv[0][0] = p[0], pv[0][1] = p[1], pv[0][2] = p[2];
-		if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax, 1, r->cull) & test & 1u) &&
-			pvs__pf_hidden(r, box, 0, zmax[0]))
-			return;
-	}
 	for (k = 0; k < 3; ++k) cid[3 * t + k] = pvs__mesh_weld(r, hs, pos, q[k], p[k]);
 	if (cid[3 * t] == cid[3 * t + 1] || cid[3 * t + 1] == cid[3 * t + 2] || cid[3 * t + 2] == cid[3 * t]) return;
 	for (k = 0; k < 3; ++k) v[k] = pvs__raster_transform(r, p[k]);
@@ -5037,12 +4997,12 @@ PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
 	}
 }
 
-/* Clears boundary flag of internal edges (conditions (i)-(iii) above). */
+/* Clears boundary flag of internal edges (conditions (i)-(iii) above); leaves out polygons with none. */
 PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
 	uint32_t t, *cid = r->mcid, *part = r->mpart;
 	for (t = 0; t < n; ++t) {
 		pvs__mtri *p = r->mt + t;
-		int e;
+		int e, any = 0;
 		if (!r->mgrp[t]) continue;
 		for (e = 0; e < p->n; ++e) {
 			uint32_t L = p->lab[e], he, o;
@@ -5055,20 +5015,21 @@ PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
 			if (o >= PVS__MESH_MULTI || r->mgrp[o / 3] != r->mgrp[t]) continue;
 			if (cid[he] != cid[3 * (o / 3) + (o % 3 + 1) % 3]) continue; /* same direction */
 			if (!(sa == 1 || sb == 1) || !sa || !sb) continue;
-			p->bnd[e] = 0;
+			p->bnd[e] = 0, any = 1;
 		}
+		if (!any) r->mgrp[t] = 0;
 	}
 }
 
-/* One mesh piece: triangles first .. first + n - 1 (n <= mesh_cap). */
+/* One mesh piece: triangles r->morder[0 .. r->mcn). */
 PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
-								 const pvs__occsel *tris, uint32_t first, uint32_t n) {
-	uint32_t hs = 16, t, h;
+								 const pvs__occsel *tris) {
+	uint32_t hs = 16, t, h, n = r->mcn;
 	while (hs < 6 * n && hs < r->mesh_hash) hs <<= 1;
 	for (h = 0; h < hs; ++h) r->mtab[h] = 0;
 	for (t = 0; t < n; ++t) {
 		uint32_t q[3];
-		pvs__tri_corners(indices, tris, first + t, q);
+		pvs__tri_corners(indices, tris, r->morder[t], q);
 		pvs__mesh_tri(r, pos, vc, q, hs, t);
 	}
 	pvs__mesh_partners(r, n, hs);
@@ -5077,15 +5038,23 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
 	pvs__mesh_draw(r, n, -1);
 }
 
-/* Occluder meshes in pieces of mesh_cap triangles (`indices` NULL: vertices in order). */
+/* Occluder meshes (`indices` NULL: vertices in order): drawn as triangles, then in pieces of mesh_cap. */
 PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
 						   const pvs__occsel *tris, uint32_t count) {
-	uint32_t first;
+	uint32_t t = 0;
 	if (!count || !vc) return;
-	pvs__raster_tris(r, pos, vc, indices, tris, count, 1);
-	if (!r->tiled) pvs__raster_occludee_begin(r);
-	for (first = 0; first < count; first += r->mesh_cap)
-		pvs__mesh_piece(r, pos, vc, indices, tris, first, count - first < r->mesh_cap ? count - first : r->mesh_cap);
+	if (!r->tiled) {
+		pvs__raster_tris(r, pos, vc, indices, tris, count, 1);
+		pvs__raster_occludee_begin(r);
+	}
+	while (t < count) {
+		r->mcn = 0, r->mon = r->tiled;
+		if (r->mon)
+			t = pvs__raster_occluders(r, pos, vc, r->vstride, indices, tris, t, count, r->cull, 0, PVS_RASTER_PARTS);
+		for (; !r->mon && t < count && r->mcn < r->mesh_cap; ++t) r->morder[r->mcn++] = t;
+		r->mon = 0;
+		pvs__mesh_piece(r, pos, vc, indices, tris);
+	}
 	r->pyramid_valid = 0;
 }
 
@@ -5749,7 +5718,7 @@ PVS__STATIC int pvs__raster_bufs(pvs_raster *r, pvs__buf *b, unsigned groups) {
 		PVS__BUF(b, k, r->mband, (size_t)r->th + 1, sizeof(uint32_t));
 		PVS__BUF(b, k, r->mzmin, band, sizeof(float));
 		PVS__BUF(b, k, r->mflag, band, 1);
-		PVS__BUF(b, k, r->mdirty, (size_t)PVS__TH * r->tw, 1);
+		PVS__BUF(b, k, r->mdirty, (size_t)PVS__TH * r->tw, 4);
 	}
 	if (groups & 16u) {
 		PVS__BUF(b, k, r->sweep, r->sweep_size, 1);
@@ -5879,10 +5848,11 @@ PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 /* Mesh scratch for pieces of `max_triangles` (0: default; at most 2^24); hash load <= 1/2. */
 PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 	size_t i;
-	r->mesh_cap = max_triangles ? (max_triangles < (1u << 24) ? max_triangles : 1u << 24) : PVS__MESH_DEFAULT;
+	r->mesh_cap = !max_triangles ? 4096u : max_triangles < 4 ? 4 : max_triangles;
+	if (r->mesh_cap > 1u << 24) r->mesh_cap = 1u << 24;
 	for (r->mesh_hash = 16; r->mesh_hash < 6 * r->mesh_cap; r->mesh_hash <<= 1) {}
 	if (!pvs__raster_alloc(r, 8u)) return 0;
-	memset(r->mdirty, 0, (size_t)PVS__TH * r->tw);
+	memset(r->mdirty, 0, (size_t)PVS__TH * r->tw * 4);
 	for (i = 0; i < (size_t)PVS__TH * r->width; ++i) {
 		r->mzmin[i] = FLT_MAX;
 		r->mflag[i] = 0;
@@ -24162,6 +24132,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
+   0.9.5 (2026-11-29) pvs_raster_mesh 5x faster: prefiltered pieces.
    0.9.4 (2026-11-29) pvs_raster_bin, pvs_raster_draw_band: a frame on several threads.
    0.9.3 (2026-11-29) pvs_raster_draw (vertex stride, back-face culling), pvs_raster_set_clip_matrix.
    0.9.2 (2026-11-29) AUTO's sample bounded by rays; PORTAL's price, triangle tests; K = 16; pvs_raster_classify_box.
