@@ -481,7 +481,7 @@ typedef struct pvs_raster_desc {
 	uint32_t cull_map_width; /* cull map cells over the scene's ground, 0 = none */
 	uint32_t cull_map_height; /*   (both or neither; 1..4096; needs `scene`) */
 	uint32_t flags; /* PVS_RASTER_* */
-	uint32_t max_mesh_triangles; /* pvs_raster_mesh's piece size, 0 = 4096 (~400 bytes each) */
+	uint32_t max_mesh_triangles; /* pvs_raster_mesh's piece size, >= 4, 0 = 4096 (~400 bytes each) */
 	uint32_t bin_triangles; /* pvs_raster_bin's triangles per frame (34 bytes each), 0 = none */
 	pvs_allocator allocator;
 } pvs_raster_desc;
@@ -3496,7 +3496,6 @@ struct pvs_raster {
 	uint32_t *mtab, *morder, *mact, *mband;	/* hash slots; mesh_cap (first the piece); mesh_cap; th + 1 */
 	uint32_t mcn; /* the piece's triangles */
 	int32_t mlo, mhi; /* tiles the band's strips touch */
-	int mon; /* pvs__raster_occluders collects the piece */
 	float *mzmin; /* 4 width: least bound of touching triangles */
 	uint8_t *mflag; /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
 	uint32_t *mdirty; /* 4 tw: pixels of band words the scratch holds (bit k: column 32 tx + k) */
@@ -4354,8 +4353,9 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 #define PVS__PF_TILES 16 /* hidden test: per tile in boxes up to this size */
 #define PVS__FSMALL(a) (((a) < 0.0f ? 0.0f - (a) : (a)) < 1e30f)
 
-/* Lanes < n to draw (bit l), those in *test only if not hidden; box, zmax: their whole pixels in map, nearest vertex
-   depth. Lanes partly behind near or eye plane are drawn untested (clipped later) unless wholly behind one. */
+/* Lanes < n to draw (bit l), those in *test only if not hidden (bit 4 + l: not drawn, no whole pixel); box, zmax:
+   their whole pixels in map, nearest vertex depth. Lanes partly behind near or eye plane are drawn untested (clipped
+   later) unless wholly behind one. */
 PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
 									float *zmax, int n, int cull) {
 	const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
@@ -4401,7 +4401,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 		f = (float)(int32_t)ymax; j1 = (int32_t)ymax - (f > ymax) - 1;
 		box[0][l] = i0; box[1][l] = i1; box[2][l] = j0; box[3][l] = j1;
 		zmax[l] = zm;
-		if (i0 > i1 || j0 > j1) { draw &= ~(1u << l); *test |= 16u << l; continue; } /* no whole pixel: bit 4 + l */
+		if (i0 > i1 || j0 > j1) { draw &= ~(1u << l); *test |= 16u << l; continue; }
 		*test |= 1u << l;
 	}
 	return draw;
@@ -4559,8 +4559,8 @@ typedef struct pvs__qtri {
 #define PVS__QBAND(r, b) ((int32_t)((b) * (r)->bh / PVS_RASTER_PARTS) << PVS__BLOCK_SHIFT) /* 1st tile row */
 
 /* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene triangles tris) through the prefilter, four at
-   a time; part < PVS_RASTER_PARTS: kept for the bands, else drawn unless hidden. r->mon: a mesh piece (occluder
-   meshes) until full; returns where it stopped. */
+   a time; part < PVS_RASTER_PARTS: kept for the bands, else drawn unless hidden; PVS_RASTER_PARTS + 1: a mesh piece
+   too, until full. Returns where it stopped. */
 PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
 										   uint32_t stride, const uint32_t *indices, const pvs__occsel *tris,
 										   uint32_t t0, uint32_t t1, int cull, uint32_t draw, uint32_t part) {
@@ -4568,7 +4568,7 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 	const float *v[4][3];
 	float last[4], zmax[4];
 	unsigned keep, test;
-	int n;
+	int n, mesh = part > PVS_RASTER_PARTS;
 	int32_t box[4][4];
 	if (!vertex_count) return t1;
 	memcpy(last, positions + (size_t)(vertex_count - 1) * stride, 3 * sizeof(float)); /* for SIMD's 4-float reads */
@@ -4604,15 +4604,15 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 								  : (uint16_t)((PVS_RASTER_PARTS - 1) << 8);
 			} else if ((keep >> l) & 1u && (!((test >> l) & 1u) || pvs__tlim_box(r, box, (int)l, zmax[l], &lim))) {
 				pvs__raster_tri(r, v[l][0], v[l][1], v[l][2], 1, &lim);
-				if (r->mon) r->morder[r->mcn++] = id[l];
-			} else if (r->mon && (test >> (4 + l)) & 1u) { /* no whole pixel: hidden one pixel wider? */
+				if (mesh) r->morder[r->mcn++] = id[l];
+			} else if (mesh && (test >> (4 + l)) & 1u) { /* no whole pixel: hidden one pixel wider? */
 				box[0][l] -= box[0][l] > 0, box[1][l] += box[1][l] + 1 < (int32_t)r->width;
 				box[2][l] -= box[2][l] > 0, box[3][l] += box[3][l] + 1 < (int32_t)r->height;
 				if (box[0][l] <= box[1][l] && box[2][l] <= box[3][l] && !pvs__pf_hidden(r, box, (int)l, zmax[l]))
 					r->morder[r->mcn++] = id[l];
 			}
 		}
-		if (r->mon && r->mcn + 4 > r->mesh_cap) return t + 4;
+		if (mesh && r->mcn + 4 > r->mesh_cap) return t + 4;
 	}
 	return t1;
 }
@@ -5048,11 +5048,11 @@ PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const u
 		pvs__raster_occludee_begin(r);
 	}
 	while (t < count) {
-		r->mcn = 0, r->mon = r->tiled;
-		if (r->mon)
-			t = pvs__raster_occluders(r, pos, vc, r->vstride, indices, tris, t, count, r->cull, 0, PVS_RASTER_PARTS);
-		for (; !r->mon && t < count && r->mcn < r->mesh_cap; ++t) r->morder[r->mcn++] = t;
-		r->mon = 0;
+		r->mcn = 0;
+		if (r->tiled) /* as pvs__raster_tris, collecting the piece */
+			t = pvs__raster_occluders(r, pos, vc, r->vstride, indices, tris, t, count, r->cull, 0,
+									  PVS_RASTER_PARTS + 1);
+		for (; !r->tiled && t < count && r->mcn < r->mesh_cap; ++t) r->morder[r->mcn++] = t;
 		pvs__mesh_piece(r, pos, vc, indices, tris);
 	}
 	r->pyramid_valid = 0;
