@@ -208,6 +208,7 @@ static void test_scene_validation(void) {
             pvs_box b = pvs_scene_bounds(s);
             CHECK(fabsf(b.max[0] - 1.0f) < 1e-5f && fabsf(b.min[0]) < 1e-5f);
             CHECK(pvs_scene_occluder(s, 0)->plane_count == 7 && pvs_scene_occluder(s, 0)->planes != planes);
+            CHECK(pvs_scene_occluder_count(s) == 1 && pvs_scene_object_count(s) == d.object_count);
             pvs_scene_destroy(s);
         }
     }
@@ -252,6 +253,11 @@ static void test_scene_validation(void) {
     CHECK(make(&d, &e) == PVS_ERROR_BAD_OCCLUDER);
     d.occluders = NULL;
     d.occluder_count = 0;
+    {
+        pvs_scene *s = NULL;
+        CHECK(pvs_scene_create(&d, &s, &e) == PVS_OK && pvs_scene_occluder_count(s) == 0);
+        pvs_scene_destroy(s);
+    }
 
     /* every allocation goes through the hooks and is freed; each failure point is handled */
     memset(&ca, 0, sizeof(ca));

@@ -147,6 +147,106 @@ static void test_occluder_projection(void) {
     if (bad) fprintf(stderr, "extproj: %d occluder samples not covered of %d\n", bad, checked);
 }
 
+/* pvs_extproj_test against its brute-force reference (visible if a pixel of the rect is off the map or stores a
+   Depth >= depth or NaN), on maps drawn with pvs_extproj_occluder and on random maps; and end to end: a box the
+   test calls hidden behind the drawn occluders is hidden from the whole cell (every sampled segment from a cell
+   point to a box point meets an occluder triangle). */
+static void test_depth_test(void) {
+    int iter, wrong = 0, hidden = 0, visible = 0, unblocked = 0, segments = 0;
+    for (iter = 0; iter < 400; ++iter) {
+        pvs_extproj_plane pl;
+        float pts[4][12], *map;
+        uint32_t i, k, n[4], nocc = 1 + (uint32_t)iter % 4, o;
+        int a, u, v, q;
+        double face;
+        ep_random_plane(&pl, 16 + (uint32_t)iter % 40);
+        a = (int)pl.axis;
+        u = (a + 1) % 3;
+        v = (a + 2) % 3;
+        face = pl.side > 0 ? pl.cell.max[a] : pl.cell.min[a];
+        map = (float *)malloc(sizeof(float) * pl.width * pl.height);
+        for (i = 0; i < pl.width * pl.height; ++i) map[i] = PVS_EXTPROJ_EMPTY;
+        for (o = 0; o < nocc; ++o) { /* parallelograms (triangles every third) facing the cell, 1 to 6 beyond it */
+            double c[3], size = ep_rndf(2.0f, 9.0f);
+            float e1[3], e2[3];
+            c[a] = face + pl.side * ep_rndf(1.0f, 6.0f);
+            c[u] = 0.5 * (pl.cell.min[u] + pl.cell.max[u]) + ep_rndf(-4.0f, 4.0f) - 0.5 * size;
+            c[v] = 0.5 * (pl.cell.min[v] + pl.cell.max[v]) + ep_rndf(-4.0f, 4.0f) - 0.5 * size;
+            for (k = 0; k < 3; ++k) {
+                e1[k] = k == (uint32_t)u ? (float)size : ep_rndf(-0.3f, 0.3f);
+                e2[k] = k == (uint32_t)v ? (float)size : ep_rndf(-0.3f, 0.3f);
+            }
+            n[o] = o % 3 == 2 ? 3 : 4;
+            for (k = 0; k < 3; ++k) {
+                pts[o][k] = (float)c[k];
+                pts[o][3 + k] = (float)c[k] + e1[k];
+                pts[o][6 + k] = (float)c[k] + e1[k] + e2[k];
+                pts[o][9 + k] = (float)c[k] + e2[k];
+            }
+            pvs_extproj_occluder(&pl, pts[o], n[o], map);
+        }
+        if (iter % 5 == 4) /* random maps: any value, NaN and empty included */
+            for (i = 0; i < pl.width * pl.height; ++i) {
+                double r = ep_rnd();
+                map[i] = r < 0.05 ? NAN : r < 0.3 ? PVS_EXTPROJ_EMPTY : ep_rndf(0.0f, 20.0f);
+            }
+        for (q = 0; q < 120; ++q) {
+            pvs_box b;
+            int32_t r[4], i0, j0, want = 0;
+            float depth;
+            int got, s;
+            for (k = 0; k < 3; ++k) {
+                float c = 0.5f * (pl.cell.min[k] + pl.cell.max[k]) + ep_rndf(-7.0f, 7.0f), h = ep_rndf(0.0f, 1.5f);
+                if ((int)k == a) c = (float)(face + pl.side * ep_rndf(6.5f, 20.0f));
+                b.min[k] = c - h;
+                b.max[k] = c + h;
+            }
+            if (q % 4 == 3) { /* random rects, partly off the map */
+                r[0] = (int32_t)(ep_rnd() * (pl.width + 4.0)) - 2;
+                r[1] = (int32_t)(ep_rnd() * (pl.height + 4.0)) - 2;
+                r[2] = r[0] + (int32_t)(ep_rnd() * 6.0);
+                r[3] = r[1] + (int32_t)(ep_rnd() * 6.0);
+                depth = ep_rndf(0.0f, 20.0f);
+            } else if (!pvs_extproj_occludee(&pl, &b, r, &depth)) {
+                continue;
+            }
+            for (j0 = r[1]; j0 <= r[3] && !want; ++j0)
+                for (i0 = r[0]; i0 <= r[2] && !want; ++i0)
+                    want = i0 < 0 || j0 < 0 || i0 >= (int32_t)pl.width || j0 >= (int32_t)pl.height ||
+                           !(map[(size_t)j0 * pl.width + (size_t)i0] < depth);
+            got = pvs_extproj_test(&pl, map, r, depth);
+            wrong += got != want;
+            if (got) { ++visible; continue; }
+            ++hidden;
+            if (q % 4 == 3 || iter % 5 == 4) continue; /* the rect is not this box's, or the map not these occluders' */
+            for (s = 0; s < 24; ++s) {
+                double V[3], Q[3], dir[3];
+                int hit = 0;
+                for (k = 0; k < 3; ++k) {
+                    V[k] = s < 8 ? ((s >> k) & 1 ? pl.cell.max[k] : pl.cell.min[k])
+                                 : pl.cell.min[k] + ep_rnd() * ((double)pl.cell.max[k] - pl.cell.min[k]);
+                    Q[k] = s < 16 ? (ep_rnd() < 0.5 ? b.min[k] : b.max[k]) : b.min[k] + ep_rnd() * ((double)b.max[k] - b.min[k]);
+                    dir[k] = Q[k] - V[k];
+                }
+                for (o = 0; o < nocc && !hit; ++o) {
+                    const float *P = pts[o];
+                    hit = ep_ray_tri(V, dir, P, P + 3, P + 6) >= 0.0 || (n[o] == 4 && ep_ray_tri(V, dir, P, P + 6, P + 9) >= 0.0);
+                }
+                ++segments;
+                unblocked += !hit;
+            }
+        }
+        free(map);
+    }
+    CHECK(pvs_extproj_test(NULL, NULL, NULL, 0.0f) == 1);
+    CHECK(wrong == 0);
+    CHECK(unblocked == 0);
+    CHECK(hidden > 500 && visible > 500 && segments > 2000); /* the test exercises both answers */
+    if (wrong || unblocked || hidden <= 500 || visible <= 500 || segments <= 2000)
+        fprintf(stderr, "extproj: depth test %d wrong, %d of %d segments unblocked, %d hidden, %d visible\n", wrong,
+                unblocked, segments, hidden, visible);
+}
+
 /* The occludee Projection holds every view of the box from the cell. */
 static void test_occludee_projection(void) {
     int iter, bad = 0, tested = 0;
@@ -1919,6 +2019,7 @@ void test_extproj(void) {
     test_portal_kernels();
     test_occluder_projection();
     test_occludee_projection();
+    test_depth_test();
     test_improved_projection();
     test_slices();
     test_sheets();

@@ -947,7 +947,7 @@ static void test_cull_map_cells(int scale) {
     pvs_raster_desc rd;
     pvs_raster *r;
     pvs_error e;
-    uint32_t c, k, cells = 0, blocked = 0, samples = 0;
+    uint32_t c, k, cells = 0, blocked = 0, samples = 0, box_tests = 0, box_wrong = 0, box_hidden = 0, box_seen = 0;
     mesh_init(&fm);
     mesh_begin_object(&fm, "f", 0, 0);
     for (c = 0; c < CLOSED + OPEN; ++c) {
@@ -1007,6 +1007,49 @@ static void test_cull_map_cells(int scale) {
                             eye[1], eye[2]);
             }
         }
+        /* pvs_cull_map_test_box against its reference: visible if a cell its footprint meets holds a height <= its
+           top (NaN too) or it leaves the region; cells met only within 1e-5 of a cell side may go either way. A box
+           it calls hidden is hidden: sampled points of it are blocked from the eye. */
+        for (i = 0; i < 60; ++i) {
+            pvs_box b;
+            double su = ((double)reg[2] - reg[0]) / w, sv = ((double)reg[3] - reg[1]) / h, a0, a1, b0, b1;
+            int got, lo = 0, hi = 0, inside, s2;
+            uint32_t ci, cj;
+            b.min[0] = rndf(reg[0] - 3, reg[2]); b.max[0] = b.min[0] + rndf(0, 3);
+            b.min[2] = rndf(reg[1] - 3, reg[3]); b.max[2] = b.min[2] + rndf(0, 3);
+            b.min[1] = rndf(0, 6); b.max[1] = b.min[1] + rndf(0, 3);
+            got = pvs_cull_map_test_box(r, &b);
+            inside = b.min[0] >= reg[0] && b.max[0] <= reg[2] && b.min[2] >= reg[1] && b.max[2] <= reg[3];
+            a0 = (b.min[0] - (double)reg[0]) / su; a1 = (b.max[0] - (double)reg[0]) / su;
+            b0 = (b.min[2] - (double)reg[1]) / sv; b1 = (b.max[2] - (double)reg[1]) / sv;
+            for (cj = 0; cj < h; ++cj)
+                for (ci = 0; ci < w; ++ci) {
+                    int under = !(cm[cj * w + ci] > b.max[1]);
+                    hi |= under && ci + 1 >= a0 - 1e-5 && ci <= a1 + 1e-5 && cj + 1 >= b0 - 1e-5 && cj <= b1 + 1e-5;
+                    lo |= under && ci + 1 > a0 + 1e-5 && ci < a1 - 1e-5 && cj + 1 > b0 + 1e-5 && cj < b1 - 1e-5;
+                }
+            ++box_tests;
+            box_wrong += inside ? (lo && !got) || (got && !hi) : !got;
+            if (got) continue;
+            ++box_hidden;
+            for (s2 = 0; s2 < 8; ++s2) {
+                float q[3];
+                int a3;
+                for (a3 = 0; a3 < 3; ++a3) q[a3] = s2 < 4 ? ((s2 >> (a3 & 1)) & 1 ? b.max[a3] : b.min[a3]) : rndf(b.min[a3], b.max[a3]);
+                box_seen += !pvs_scene_segment_blocked(fs, eye, q);
+            }
+        }
+    }
+    CHECK(box_wrong == 0 && box_seen == 0 && box_hidden > 50 && box_hidden < box_tests);
+    if (box_wrong || box_seen || box_hidden <= 50 || box_hidden >= box_tests)
+        fprintf(stderr, "cull map: %u of %u box tests wrong, %u of %u hidden boxes seen\n", box_wrong, box_tests, box_seen,
+                box_hidden);
+    {
+        pvs_box b = {{0, 0, 0}, {1, 1, 1}};
+        pvs_raster *r2;
+        rd.cull_map_width = rd.cull_map_height = 0;
+        CHECK(pvs_raster_create(&rd, &r2, &e) == PVS_OK && pvs_cull_map_test_box(r2, &b) == 1); /* no cull map */
+        pvs_raster_destroy(r2);
     }
     CHECK(cells > 0);
     CHECK(blocked == samples);

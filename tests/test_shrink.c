@@ -184,6 +184,33 @@ static void test_synthesis(void) {
             CHECK(pvs_occluders_column_height(o, lo[0] + 0.3f, 0.5f * (lo[2] + hi[2]), NULL) == -FLT_MAX);
             CHECK(pvs_occluders_column_height(o, -2.0f, -2.0f, NULL) == -FLT_MAX);
         }
+        {
+            /* pvs_occluders_eroded_voxel against its reference: solid voxels whose whole cube of radius r =
+               floor(eps / voxel) + 1 lies in the grid and is solid (Chebyshev erosion, Wonka 2000's shrinking) */
+            uint32_t r = (uint32_t)floor(od.eps / info.voxel_size) + 1u, nx = info.dims[0], ny = info.dims[1], wrong = 0,
+                     eroded = 0;
+            size_t nvox = (size_t)nx * ny * info.dims[2];
+            unsigned char *sol = (unsigned char *)malloc(nvox);
+            for (k = 0; sol && k < info.dims[2]; ++k)
+                for (j = 0; j < ny; ++j)
+                    for (i = 0; i < nx; ++i) sol[(k * ny + j) * nx + i] = pvs_occluders_voxel(o, i, j, k) == PVS_VOXEL_SOLID;
+            for (k = 0; sol && k < info.dims[2]; ++k)
+                for (j = 0; j < ny; ++j)
+                    for (i = 0; i < nx; ++i) {
+                        int want = i >= r && j >= r && k >= r && i + r < nx && j + r < ny && k + r < info.dims[2];
+                        uint32_t a0, a1, a2;
+                        for (a2 = k - r; want && a2 <= k + r; ++a2)
+                            for (a1 = j - r; want && a1 <= j + r; ++a1)
+                                for (a0 = i - r; want && a0 <= i + r; ++a0) want = sol[(a2 * ny + a1) * nx + a0];
+                        eroded += (uint32_t)want;
+                        wrong += pvs_occluders_eroded_voxel(o, i, j, k) != want;
+                    }
+            free(sol);
+            CHECK(sol != NULL && wrong == 0);
+            CHECK(eroded == info.eroded && (variant != 0 || eroded > 0));
+            CHECK(!pvs_occluders_eroded_voxel(o, nx, 0, 0) && !pvs_occluders_eroded_voxel(o, 0, ny, 0) &&
+                  !pvs_occluders_eroded_voxel(o, 0, 0, info.dims[2]));
+        }
         pvs_occluders_destroy(o);
         pvs_scene_destroy(s);
         mesh_free(&m);
