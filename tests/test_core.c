@@ -258,6 +258,38 @@ static void test_scene_validation(void) {
         CHECK(pvs_scene_create(&d, &s, &e) == PVS_OK && pvs_scene_occluder_count(s) == 0);
         pvs_scene_destroy(s);
     }
+    {   /* the fingerprint: the same scene gives the same, never 0; a corner moved by one float step, another object
+           split, another flag or an explicit occluder each give another */
+        pvs_scene *s = NULL;
+        uint64_t f[6];
+        int a, b;
+        for (k = 0; k < 6; ++k) {
+            float keep = v[5];
+            if (k == 2) v[5] = nextafterf(v[5], 2.0f);
+            if (k == 3) { ob[0].triangle_count = 4; ob[1].first_triangle = 4; ob[1].triangle_count = 8; }
+            if (k == 4) ob[1].flags = 0;
+            if (k == 5) {
+                memset(&oc, 0, sizeof(oc));
+                oc.kind = PVS_OCCLUDER_BOX;
+                oc.box.min[0] = oc.box.min[1] = oc.box.min[2] = 2;
+                oc.box.max[0] = oc.box.max[1] = oc.box.max[2] = 3;
+                d.occluders = &oc;
+                d.occluder_count = 1;
+            }
+            f[k] = 0;
+            if (pvs_scene_create(&d, &s, &e) == PVS_OK) f[k] = pvs_scene_fingerprint(s);
+            CHECK(f[k] != 0);
+            pvs_scene_destroy(s);
+            s = NULL;
+            v[5] = keep;
+            ob[0].triangle_count = 6; ob[1].first_triangle = 6; ob[1].triangle_count = 6;
+            ob[1].flags = PVS_OBJECT_OCCLUDER_ONLY;
+            d.occluders = NULL; d.occluder_count = 0;
+        }
+        CHECK(f[0] == f[1]);
+        for (a = 1; a < 6; ++a)
+            for (b = a + 1; b < 6; ++b) CHECK(f[a] != f[b]);
+    }
 
     /* every allocation goes through the hooks and is freed; each failure point is handled */
     memset(&ca, 0, sizeof(ca));

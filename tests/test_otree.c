@@ -4,6 +4,7 @@
 #include "../pvs.h"
 #include "test.h"
 #include "../tools/gen.h"
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -421,6 +422,32 @@ static void test_25d_random(void) {
             CHECK(pvs_visibility_25d(&d, full, NULL, &e) == PVS_OK);
             CHECK(memcmp(full, bits, sizeof(full)) == 0);
             d.flags = 0;
+        }
+        {   /* a tree the caller builds once over pvs_visibility_25d_boxes answers the same; the boxes hold each item's
+               ground rectangle and its height from the lowest top */
+            pvs_box bx[60 + 120];
+            pvs_kdtree_desc kd;
+            pvs_kdtree *t = NULL;
+            pvs_word tb[2];
+            float low = FLT_MAX;
+            uint32_t bad = 0;
+            for (i = 0; i < nw + no; ++i) low = fminf(low, i < nw ? walls[5 * i + 4] : objs[5 * (i - nw) + 4]);
+            pvs_visibility_25d_boxes(walls, nw, objs, no, bx);
+            for (i = 0; i < nw + no; ++i) {
+                const float *f = i < nw ? walls + 5 * i : objs + 5 * (i - nw);
+                bad += bx[i].min[0] != fminf(f[0], f[2]) || bx[i].max[0] != fmaxf(f[0], f[2]);
+                bad += bx[i].min[1] != fminf(f[1], f[3]) || bx[i].max[1] != fmaxf(f[1], f[3]);
+                bad += bx[i].min[2] != low || bx[i].max[2] != f[4];
+            }
+            CHECK(bad == 0);
+            memset(&kd, 0, sizeof(kd));
+            kd.boxes = bx;
+            kd.count = nw + no;
+            CHECK(pvs_kdtree_create(&kd, &t, &e) == PVS_OK);
+            d.tree = t;
+            CHECK(pvs_visibility_25d(&d, tb, NULL, &e) == PVS_OK && memcmp(tb, bits, sizeof(tb)) == 0);
+            d.tree = NULL;
+            pvs_kdtree_destroy(t);
         }
         {   /* a node budget stops insertion: reported, and the set only grows */
             pvs_word cut[2];
