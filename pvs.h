@@ -16145,7 +16145,7 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 }
 
 /* Adds winding w to set c: each vertex unless one is within eps, each edge once (either way; lost if c is full: never
-   for pvs__po_source's sets, a once-clipped box has <= 7 faces of 5 vertices). */
+   here, a once-clipped box has <= 7 faces of 5 vertices, a portal <= PVS__PO_MAXW). */
 PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const pvs__po_wind *w, double eps) {
 	uint32_t i, k, a, b = PVS__PO_MAXW;
 	for (k = 0; w->n && k <= w->n; ++k, b = a) {
