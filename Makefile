@@ -143,7 +143,7 @@ bench: $(patsubst %,$(B)/bench_%,$(BENCHES)) $(B)/pvswalkthrough tools
 # github.com/GameTechDev/MaskedOcclusionCulling named by MOC_DIR (outside the repository; its code is never committed
 # here), every MOC path the CPU has, one process, one core. Not part of `make bench`; without MOC_DIR it says so.
 MOC_FLAGS := -O2 -std=c++11 -DUSE_AVX512=1 -include tests/bench_moc_shim.h
-bench-moc: tools
+bench-moc: tools $(TOOL_OBJ)
 	@if [ -z "$(MOC_DIR)" ] || [ ! -f "$(MOC_DIR)/MaskedOcclusionCulling.h" ]; then \
 	  echo "bench-moc: set MOC_DIR to a checkout of github.com/GameTechDev/MaskedOcclusionCulling"; exit 0; fi; \
 	mkdir -p $(B)/moc && \

@@ -1,4 +1,4 @@
-/* pvs.h - v0.9.6 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.9.7 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -71,7 +71,8 @@
    PVS_QSORT(b, n, sz, f)  qsort(b, n, sz, f)  every sort (qsort's contract; stability not needed)
    PVS_ASSERT(x)           assert(x)           checks of programmer misuse only, never of input data
    PVS_NO_STDIO            undefined           error messages without snprintf (reason strings only)
-   PVS_NO_SIMD             undefined           scalar code paths only (identical results)
+   PVS_NO_SIMD             undefined           scalar code paths only (identical results); else SSE2 or NEON, and
+												 AVX2 where the CPU has it (GCC, Clang; MSVC: /arch:AVX2)
    PVS_RUNTIME_ONLY        undefined           only what a game runs: the file reader, cell look-up, decoding, the
 												 cursor, names, pvs_vocc_cull (tree NULL); no allocation, ~30 KB code
 
@@ -80,11 +81,11 @@
    Coordinates. Any right- or left-handed frame; the scene's `up_axis` (1 = Y, the OBJ default, or 2 = Z) is the
    2.5D methods' height axis. Cells are axis-aligned boxes in scene units.
 
-   Conservative. A PVS holds every object visible from any point of its cell (a superset of the exact set), for every
-   eps (the sampling or shrinking distance; smaller is tighter and slower). Except `sample` (ray sampling): an estimate
-   from below, the tests' yardstick; its files carry PVS_FILE_APPROXIMATE. One tolerance: OTREE's facade extraction
-   closes cracks and offsets up to eight float epsilons of the scene's coordinates between pieces of one wall
-   (T-junctions; about 1 mm at 1 km); openings to see through must be wider.
+   Conservative. A PVS holds every object visible from any point of its cell, for every eps (sampling or shrinking
+   distance; smaller is tighter and slower). Except `sample` (ray sampling): an estimate from below, tests' yardstick;
+   its files carry PVS_FILE_APPROXIMATE. One tolerance: OTREE's facade extraction closes cracks and offsets up to eight
+   float epsilons of scene's coordinates between pieces of one wall (T-junctions; about 1 mm at 1 km); openings to see
+   through must be wider.
 
    Methods. AUTO, the default, intersects the PVSs of the conservative methods that can cull in the scene, cheapest
    first: PORTAL (closed convex meshes bound rooms), OTREE (vertical walls), EXTPROJ with its sweep (§5), SHRINK
@@ -100,8 +101,8 @@
    shards, VOCC or resuming.
 
    Threads. No thread started, no global mutable state. Read-only objects (a created pvs_scene or pvs_kdtree, an opened
-   pvs_file) may be shared by threads. pvs_bake_run_task may run concurrently for distinct tasks (with a thread-safe
-   allocator, as malloc is); output is byte-identical for any order or thread count.
+   pvs_file) may be shared. pvs_bake_run_task may run concurrently for distinct tasks (with a thread-safe allocator, as
+   malloc is); output is byte-identical for any order or thread count.
 
    Errors. Functions return pvs_result (0 = PVS_OK, negative = error; pvs_result_string names it); most fill an optional
    `pvs_error *` with the code, offending index or byte offset, and message. Bad data: a result code, never PVS_ASSERT.
@@ -153,7 +154,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 9
-#define PVS_VERSION_PATCH 6
+#define PVS_VERSION_PATCH 7
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 1
 
@@ -185,7 +186,7 @@ typedef enum pvs_result {
 	PVS_ERROR_NOT_FINITE = -5, /* NaN/infinite coordinate or parameter */
 	PVS_ERROR_EMPTY_OBJECT = -6, /* object with no triangles */
 	PVS_ERROR_DEGENERATE_OBJECT = -7, /* object of only zero-area triangles */
-	PVS_ERROR_OVERLAPPING_OBJECTS = -8,/* two objects claim the same triangle */
+	PVS_ERROR_OVERLAPPING_OBJECTS = -8,/* two objects claim same triangle */
 	PVS_ERROR_BAD_OCCLUDER = -9, /* explicit occluder empty, unbounded or malformed */
 	PVS_ERROR_BAD_CELL = -10, /* cell box with NaN or min > max */
 	PVS_ERROR_BUFFER_TOO_SMALL = -11, /* output buffer too small */
@@ -198,7 +199,7 @@ typedef enum pvs_result {
 	PVS_ERROR_OBJECT_OUT_OF_RANGE = -18,/* record names an object id >= object count */
 	PVS_ERROR_BAD_HEADER = -19, /* impossible header or META field value */
 	PVS_ERROR_NOT_DONE = -20, /* bake result asked before all tasks ran */
-	PVS_ERROR_UNSUPPORTED = -21, /* method cannot handle the input (message: why) */
+	PVS_ERROR_UNSUPPORTED = -21, /* method cannot handle input (message: why) */
 	PVS_ERROR_BAD_CHAIN = -22, /* delta record's base chain cyclic, too long or inconsistent */
 	PVS_ERROR_BAD_TREE = -23, /* malformed .pvs cell look-up tree */
 	PVS_ERROR_SHARD_MISMATCH = -24, /* part files not one bake (missing, repeated, different) */
@@ -207,7 +208,7 @@ typedef enum pvs_result {
 
 /* Why a call with a last `pvs_error *` (NULL ok) failed. */
 typedef struct pvs_error {
-	pvs_result result; /* the return value */
+	pvs_result result; /* return value */
 	int64_t index; /* offending object/triangle/vertex/cell/occluder/record, or -1 */
 	uint64_t offset; /* file byte offset of a format error, else 0 */
 	char message[200]; /* NUL-terminated: what, where */
@@ -220,8 +221,8 @@ PVS_API const char *pvs_result_string(pvs_result result);
 PVS_API uint32_t pvs_version(void);
 
 /* Allocation hooks: alloc returns `align`-aligned memory (power of two <= 64) or NULL; free gets alloc's size. All
-   zero: PVS_MALLOC/PVS_FREE. Objects keep a copy (their destroy frees via it; NULL ok). Must be thread-safe for
-   parallel bakes. */
+   zero: PVS_MALLOC/PVS_FREE. Objects keep a copy (destroy frees via it; NULL ok). Must be thread-safe for parallel
+   bakes. */
 typedef struct pvs_allocator {
 	void *(*alloc)(size_t size, size_t align, void *user);
 	void (*free)(void *ptr, size_t size, void *user);
@@ -241,7 +242,7 @@ typedef uint64_t pvs_word;
 PVS_API int pvs_bitset_test(const pvs_word *bits, uint32_t i);
 PVS_API void pvs_bitset_set(pvs_word *bits, uint32_t i);
 PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i);
-/* Set bits among the first `bit_count`. */
+/* Set bits among first `bit_count`. */
 PVS_API uint32_t pvs_bitset_count(const pvs_word *bits, uint32_t bit_count);
 /* First set bit >= `from`, or `bit_count`: for (i = next(b,n,0); i < n; i = next(b,n,i+1)). */
 PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint32_t from);
@@ -250,7 +251,7 @@ PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint3
 /* kD-tree over boxes (>>kdtree); runtime pvs_vocc_cull takes one (NULL under PVS_RUNTIME_ONLY). */
 typedef struct pvs_kdtree pvs_kdtree;
 
-#ifndef PVS_RUNTIME_ONLY /* the bake's modules, up to >>vocc's run-time part */
+#ifndef PVS_RUNTIME_ONLY /* bake's modules, up to >>vocc's run-time part */
 /* ---- scene ---- */
 
 #define PVS_OBJECT_OCCLUDER_ONLY 1u /* blocks sight, never drawn: never in a PVS */
@@ -258,7 +259,7 @@ typedef struct pvs_kdtree pvs_kdtree;
    doors (bake doors open; per frame, pass a closed door's triangles as occluders). */
 #define PVS_OBJECT_SEE_THROUGH 2u
 
-/* Object, the unit of visibility: a triangle range disjoint from others'; triangles in none only block sight. */
+/* Object, unit of visibility: a triangle range disjoint from others'; triangles in none only block sight. */
 typedef struct pvs_object_desc {
 	uint32_t first_triangle;
 	uint32_t triangle_count;
@@ -270,14 +271,14 @@ typedef enum pvs_occluder_kind {
 	PVS_OCCLUDER_INVALID = 0,
 	PVS_OCCLUDER_BOX, /* `box` */
 	PVS_OCCLUDER_CONVEX, /* intersection of half-spaces: `planes` */
-	PVS_OCCLUDER_EXTRUSION, /* simple ground-plane polygon extruded along the up axis */
+	PVS_OCCLUDER_EXTRUSION, /* simple ground-plane polygon extruded along up axis */
 	PVS_OCCLUDER_KIND_COUNT
 } pvs_occluder_kind;
 
 /* Explicit occluder volume; pvs_scene_create copies arrays. */
 typedef struct pvs_occluder_desc {
 	pvs_occluder_kind kind;
-	pvs_box box; /* BOX: the volume */
+	pvs_box box; /* BOX: volume */
 	const float *planes; /* CONVEX: plane_count x (nx, ny, nz, d); inside: n.p + d <= 0 */
 	uint32_t plane_count; /* CONVEX: 4..PVS_MAX_OCCLUDER_PLANES, bounded, non-empty */
 	const float *footprint; /* EXTRUSION: footprint_count ground points (u, v): simple polygon, */
@@ -308,7 +309,7 @@ typedef struct pvs_scene_desc {
 /* Validated scene with its kD-trees; immutable, so thread-safe. */
 typedef struct pvs_scene pvs_scene;
 
-/* Copies, validates, builds object bounds and kD-trees. Errors (err->index: the element): INVALID_ARGUMENT,
+/* Copies, validates, builds object bounds and kD-trees. Errors (err->index: element): INVALID_ARGUMENT,
    INDEX_OUT_OF_RANGE, NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT, OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW,
    OUT_OF_MEMORY. Holds at most these bytes per triangle and object, 12 per vertex, + _FIXED. */
 #define PVS_SCENE_BYTES_PER_TRIANGLE 2432
@@ -325,9 +326,9 @@ PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *scene); /* 1 or 2 */
 PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene); /* of all triangles and occluders */
 PVS_API pvs_box pvs_scene_object_box(const pvs_scene *scene, uint32_t object); /* object < count */
 PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object);
-/* 64-bit FNV-1a hash of what the bake reads: up axis, per object its flags and triangles' corners, then explicit
-   occluders (kind, box, heights, planes, footprints). Never 0. Stored (pvs_file.scene_fingerprint) to spot a file
-   baked for another level version. */
+/* 64-bit FNV-1a hash of what bake reads: up axis, per object its flags and triangles' corners, then explicit occluders
+   (kind, box, heights, planes, footprints). Never 0. Stored (pvs_file.scene_fingerprint) to spot a file baked for
+   another level version. */
 PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *scene);
 /* A triangle's object, or PVS_NO_OBJECT. */
 PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t triangle);
@@ -340,9 +341,9 @@ typedef struct pvs_hit {
 	uint32_t object; /* PVS_NO_OBJECT: triangle in no object */
 } pvs_hit;
 
-/* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), on two-sided triangles: 1 and *hit (may be NULL),
-   or 0. Watertight (Woop, Benthin, Wald 2013, in double): no ray slips through a shared edge or corner.
-   Zero-area and see-through triangles never hit; ties to the lowest triangle. Thread-safe, allocates nothing. */
+/* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), on two-sided triangles: 1 and *hit (may be NULL), or 0.
+   Watertight (Woop, Benthin, Wald 2013, in double): no ray slips through a shared edge or corner. Zero-area and
+   see-through triangles never hit; ties to lowest triangle. Thread-safe, allocates nothing. */
 PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax,
 							  pvs_hit *hit);
 /* 1 if a triangle crosses segment a-b (ends included), 0 if a == b; else as pvs_scene_raycast. */
@@ -362,13 +363,13 @@ typedef struct pvs_walkable_desc {
 	pvs_allocator allocator; /* scratch */
 } pvs_walkable_desc;
 
-/* View cells where the camera can go: floors (opaque, at most max_slope, head_room free above, not in a closed mesh
-   or one open only at its base; vertical ray casts through every storey), samples linked a step apart knee to knee,
-   grouped per cell_size square, open floor merged up to max_merge per side; per group its samples' box plus half a
-   spacing, from a quarter eye height over its lowest floor to eye height over its highest. A seed keeps floors a
-   walk (up a step, or dropping) reaches from the nearest one at most a step above it. Writes up to `capacity` boxes
-   (cells may be NULL), *count all found. Deterministic, thread-safe. Errors: INVALID_ARGUMENT, NOT_FINITE,
-   COUNT_OVERFLOW (over 2^26 sample columns), OUT_OF_MEMORY. */
+/* View cells where camera can go: floors (opaque, at most max_slope, head_room free above, not in a closed mesh or one
+   open only at its base; vertical ray casts through every storey), samples linked a step apart knee to knee, grouped
+   per cell_size square, open floor merged up to max_merge per side; per group its samples' box plus half a spacing,
+   from a quarter eye height over its lowest floor to eye height over its highest. A seed keeps floors a walk (up a
+   step, or dropping) reaches from nearest one at most a step above it. Writes up to `capacity` boxes (cells may be
+   NULL), *count all found. Deterministic, thread-safe. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW (over 2^26
+   sample columns), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable_desc *desc, pvs_box *cells,
 									  uint32_t capacity, uint32_t *count, pvs_error *err);
 
@@ -390,8 +391,8 @@ typedef struct pvs_kdtree_desc {
 #define PVS_KDTREE_BUILD_BYTES_PER_BOX 2336
 #define PVS_KDTREE_BUILD_BYTES_FIXED 4096
 
-/* Deterministic. Skips boxes with min > max; count 0: empty tree. Errors: INVALID_ARGUMENT, NOT_FINITE
-   (err->index = the box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
+/* Deterministic. Skips boxes with min > max; count 0: empty tree. Errors: INVALID_ARGUMENT, NOT_FINITE (err->index =
+   box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out_tree, pvs_error *err);
 /* Frees; NULL ok. */
 PVS_API void pvs_kdtree_destroy(pvs_kdtree *tree);
@@ -402,16 +403,16 @@ PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
 
 /* A sweep visitor's answer. */
 typedef enum pvs_visit {
-	PVS_VISIT_DESCEND = 0, /* visit the children */
-	PVS_VISIT_SKIP, /* cull the subtree */
-	PVS_VISIT_STOP, /* end the sweep */
-	PVS_VISIT_ALL, /* take the subtree whole (below); only STOP heeded in it */
+	PVS_VISIT_DESCEND = 0, /* visit children */
+	PVS_VISIT_SKIP, /* cull subtree */
+	PVS_VISIT_STOP, /* end sweep */
+	PVS_VISIT_ALL, /* take subtree whole (below); only STOP heeded in it */
 	PVS_VISIT_COUNT
 } pvs_visit;
 
-/* Per node reached, by increasing `distance` from the source box (0 where they meet); `node_box`: bounds cut by the
-   splits above. Leaves pass their items (an item once per leaf it is in), other nodes NULL, 0. After PVS_VISIT_ALL,
-   each non-empty leaf below comes at once, depth first, distance -1, before the sweep goes on. */
+/* Per node reached, by increasing `distance` from source box (0 where they meet); `node_box`: bounds cut by splits
+   above. Leaves pass their items (an item once per leaf it is in), other nodes NULL, 0. After PVS_VISIT_ALL, each
+   non-empty leaf below comes at once, depth first, distance -1, before sweep goes on. */
 typedef pvs_visit (*pvs_kdtree_visit_fn)(void *user, const pvs_box *node_box, float distance,
 										 const uint32_t *items, uint32_t item_count);
 
@@ -424,29 +425,29 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *sourc
 									pvs_kdtree_visit_fn visit, void *user);
 
 /* Per non-empty leaf a ray passes, nearest first; [t_enter, t_exit] widened by a relative 1e-7. Return a smaller tmax
-   to shorten the ray (larger ignored), < 0 to stop. */
+   to shorten ray (larger ignored), < 0 to stop. */
 typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t item_count, float t_enter, float t_exit);
-/* Walks the leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components (not all
-   three), origin anywhere; non-finite input walks nothing. Thread-safe, no allocation. */
+/* Walks leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components (not all three),
+   origin anywhere; non-finite input walks nothing. Thread-safe, no allocation. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
 							pvs_kdtree_ray_fn fn, void *user);
 
-/* Items of p's leaf: all whose box contains p (also on a split plane), maybe more; NULL, *count = 0 outside the
-   bounds or in an empty leaf. No allocation. */
+/* Items of p's leaf: all whose box contains p (also on a split plane), maybe more; NULL, *count = 0 outside bounds or
+   in an empty leaf. No allocation. */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
 
 /* ---- raster ---- */
 
-/* Depth (reversed Z): z_clip / w_clip, LARGER IS NEARER. pvs_camera_matrix maps the near plane to 1, infinity to 0
+/* Depth (reversed Z): z_clip / w_clip, LARGER IS NEARER. pvs_camera_matrix maps near plane to 1, infinity to 0
    (orthographic: 1 at near, linear, negative past `far`). Clipping keeps points with z_clip <= w_clip and w_clip > 0;
-   no far clipping. Pixel (i, j) covers [i, i+1] x [j, j+1] for x = (x_ndc + 1) / 2 * width, y likewise (row 0 at
-   y_ndc = -1), and holds the nearest depth drawn, else PVS_DEPTH_EMPTY. */
+   no far clipping. Pixel (i, j) covers [i, i+1] x [j, j+1] for x = (x_ndc + 1) / 2 * width, y likewise (row 0 at y_ndc
+   = -1), and holds nearest depth drawn, else PVS_DEPTH_EMPTY. */
 #define PVS_DEPTH_EMPTY (-3.402823466e+38f)
 
 /* Rasterization (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union). */
 typedef enum pvs_raster_mode {
-	PVS_RASTER_OCCLUDER = 0, /* pixels covered entirely, at most the triangle's farthest over them */
-	PVS_RASTER_OCCLUDEE, /* pixels touched, at least the triangle's nearest over them */
+	PVS_RASTER_OCCLUDER = 0, /* pixels covered entirely, at most triangle's farthest over them */
+	PVS_RASTER_OCCLUDEE, /* pixels touched, at least triangle's nearest over them */
 	PVS_RASTER_MODE_COUNT
 } pvs_raster_mode;
 
@@ -470,6 +471,7 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, flo
 #define PVS_RASTER_SCALAR 1u /* scalar code even where SIMD is compiled in (identical results) */
 #define PVS_RASTER_PER_PIXEL 2u /* occluders keep a depth per pixel */
 #define PVS_RASTER_TILED 4u /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
+#define PVS_RASTER_SSE2 8u /* no AVX2 code where the CPU has it (GCC, Clang: run-time choice; identical results) */
 
 /* Zero fields get defaults. */
 typedef struct pvs_raster_desc {
@@ -494,32 +496,34 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 /* Frees via its allocator; NULL ok. */
 PVS_API void pvs_raster_destroy(pvs_raster *raster);
 
+/* The code it runs: "avx2", "sse2", "neon" or "scalar" (PVS_RASTER_SCALAR, PVS_NO_SIMD). */
+PVS_API const char *pvs_raster_path(const pvs_raster *raster);
 /* Sets every depth pixel to PVS_DEPTH_EMPTY, empties the bins. */
 PVS_API void pvs_raster_clear(pvs_raster *raster);
 /* Row-major projection of the next draws and box tests: any 4x4 (also off-axis, as Durand 2000's planes
    shared by a cell). NOT_FINITE for a non-finite entry. */
 PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *raster, const float m[16]);
 /* An engine's clip matrix in its convention, PVS_CLIP_* (0: row-major, z_ndc 1 at near, 0 at far or infinity, as
-   pvs_camera_matrix). Its depth row becomes w - z (zero-one) or (w - z) / 2 in float; x, y, w stay: the screen is
-   the engine's. No far clipping. Errors as pvs_raster_set_matrix; INVALID_ARGUMENT for unknown or both depths. */
+   pvs_camera_matrix). Its depth row becomes w - z (zero-one) or (w - z) / 2 in float; x, y, w stay: screen is engine's.
+   No far clipping. Errors as pvs_raster_set_matrix; INVALID_ARGUMENT for unknown or both depths. */
 PVS_API pvs_result pvs_raster_set_clip_matrix(pvs_raster *raster, const float m[16], uint32_t flags);
 #define PVS_CLIP_COLUMN_MAJOR 1u /* m[4 * column + row] (OpenGL, glm) */
 #define PVS_CLIP_DEPTH_ZERO_ONE 2u /* z_ndc 0 at near, 1 at far (Direct3D, Vulkan, Metal) */
 #define PVS_CLIP_DEPTH_MINUS_ONE_ONE 4u /* z_ndc -1 at near, 1 at far (OpenGL) */
 /* Draws `count` two-sided triangles (3 floats per vertex; 3 `indices` per triangle, NULL: consecutive), keeping per
-   pixel the nearer depth (tiles may keep a farther one, never one nearer than the nearest occluder); conservative
-   under rounding. Skips triangles with a non-finite coordinate or index >= vertex_count. Errors: pvs_raster_draw. */
+   pixel nearer depth (tiles may keep a farther one, never one nearer than nearest occluder); conservative under
+   rounding. Skips triangles with a non-finite coordinate or index >= vertex_count. Errors: pvs_raster_draw. */
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 										const uint32_t *indices, uint32_t count, pvs_raster_mode mode);
 /* Draws `count` triangles as one occluder (Durand 2000 §3.3: per-triangle inner coverage cracks along shared edges):
-   as pvs_raster_triangles, plus every pixel a triangle touches and no boundary edge does, at the farthest depth over
-   it of the touching triangles of its facing. Boundary edges (cracks remain): edges not shared by exactly two
-   triangles (by index or position), silhouettes, edges between oppositely wound triangles, near-plane cuts and the
-   edges they cut, edges of triangles already hidden (tiled) and between pieces of max_mesh_triangles. Errors as
-   pvs_raster_triangles; SIMD gives the same. */
+   as pvs_raster_triangles, plus every pixel a triangle touches and no boundary edge does, at farthest depth over it of
+   touching triangles of its facing. Boundary edges (cracks remain): edges not shared by exactly two triangles (by index
+   or position) or between oppositely wound ones, silhouettes, near-plane cuts and edges they cut, edges of triangles
+   already hidden (tiled) and between pieces of max_mesh_triangles. Errors as pvs_raster_triangles; SIMD gives the
+   same. */
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 								   const uint32_t *indices, uint32_t count);
-/* A draw with Masked Occlusion Culling's per-call options: vertices in the caller's struct, back-face culling. */
+/* A draw with Masked Occlusion Culling's per-call options: vertices in caller's struct, back-face culling. */
 typedef struct pvs_raster_draw_desc {
 	const float *positions; /* x, y, z first in each vertex (4-byte aligned); NULL only with no triangles */
 	uint32_t stride; /* bytes from vertex to vertex, a multiple of 4, >= 12; 0 = 12 */
@@ -530,8 +534,8 @@ typedef struct pvs_raster_draw_desc {
 	uint32_t flags; /* PVS_DRAW_* */
 } pvs_raster_draw_desc;
 #define PVS_DRAW_MESH 1u /* one occluder, as pvs_raster_mesh */
-/* Occluders: leave out triangles clockwise (counter-clockwise) on screen, x_ndc right, y_ndc up: det(x, y, w) of
-   the clip coordinates, exact across the near plane too. Leaving out occluders is conservative. */
+/* Occluders: leave out triangles clockwise (counter-clockwise) on screen, x_ndc right, y_ndc up: det(x, y, w) of clip
+   coordinates, exact across near plane too. Leaving out occluders is conservative. */
 #define PVS_DRAW_CULL_CW 2u
 #define PVS_DRAW_CULL_CCW 4u
 /* pvs_raster_triangles (PVS_DRAW_MESH: pvs_raster_mesh) with those options. INVALID_ARGUMENT for NULL raster or
@@ -553,20 +557,20 @@ PVS_API pvs_result pvs_raster_bin(pvs_raster *raster, const pvs_raster_draw_desc
 /* Draws band `band` of every part's bins. */
 PVS_API void pvs_raster_draw_band(pvs_raster *raster, const pvs_raster_draw_desc *draws, uint32_t draw_count,
 								  uint32_t band);
-/* Depth map, width * height floats from row 0, valid until the next raster call. */
+/* Depth map, width * height floats from row 0, valid until next raster call. */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
 
-/* Hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per texel the farthest and nearest
-   depth of its 2 x 2 children (tiled: above the tiles). The tests build it when the map changed. */
+/* Hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per texel farthest and nearest depth
+   of its 2 x 2 children (tiled: above tiles). Tests build it if map changed. */
 PVS_API void pvs_raster_build_pyramid(pvs_raster *raster);
 /* 1 if an occludee of nearest depth `depth` may be visible in pixels [x0, x1] x [y0, y1] (inclusive, clamped): some
-   pixel stores a depth <= `depth`; 0 if all are strictly nearer or the rectangle is off the map. */
+   pixel stores a depth <= `depth`; 0 if all are strictly nearer or rectangle is off map. */
 PVS_API int pvs_raster_test_rect(pvs_raster *raster, int32_t x0, int32_t y0, int32_t x1, int32_t y1, float depth);
-/* 1 if the box may be visible: before the near plane, on screen, not hidden. */
+/* 1 if box may be visible: before near plane, on screen, not hidden. */
 PVS_API int pvs_raster_test_box(pvs_raster *raster, const pvs_box *box);
 #define PVS_BOX_OCCLUDED 0 /* on screen, hidden by what was drawn */
 #define PVS_BOX_VISIBLE 1 /* may be visible: pvs_raster_test_box's 1 */
-#define PVS_BOX_VIEW_CULLED 2 /* wholly off screen or behind the near plane: no occluder needed */
+#define PVS_BOX_VIEW_CULLED 2 /* wholly off screen or behind near plane: no occluder needed */
 /* pvs_raster_test_box telling why a box is not visible: PVS_BOX_*. */
 PVS_API int pvs_raster_classify_box(pvs_raster *raster, const pvs_box *box);
 
@@ -575,27 +579,27 @@ typedef struct pvs_facade_chain {
 	const float *points; /* (u, v) each */
 	uint32_t point_count; /* >= 2 */
 	uint32_t closed; /* 1: closed footprint (either winding), back-face culled; 0: open, two-sided */
-	float base, top; /* base < top; chains with base above the ground are ignored */
+	float base, top; /* base < top; chains with base above ground are ignored */
 } pvs_facade_chain;
 
-#define PVS_CULL_MAP_SCENE_OCCLUDERS 1u /* cull map flag: also the scene's EXTRUSION, BOX occluders as closed chains */
+#define PVS_CULL_MAP_SCENE_OCCLUDERS 1u /* cull map flag: also scene's EXTRUSION, BOX occluders as closed chains */
 
-/* Builds the cull map from the eye (Wonka & Schmalstieg 1999 §3-4): front-facing facades' occluder shadows drawn
-   top-down on the ground rectangle, the highest per cell, which hides its column below that height (PVS_DEPTH_EMPTY:
-   none). Facades count only if base <= min(eye height, the scene's lowest point). Skips malformed chains.
-   INVALID_ARGUMENT without a scene and cull map, NOT_FINITE (eye). */
+/* Builds cull map from eye (Wonka & Schmalstieg 1999 §3-4): front-facing facades' occluder shadows drawn top-down on
+   ground rectangle, highest per cell, which hides its column below that height (PVS_DEPTH_EMPTY: none). Facades count
+   only if base <= min(eye height, scene's lowest point). Skips malformed chains. INVALID_ARGUMENT without a scene and
+   cull map, NOT_FINITE (eye). */
 PVS_API pvs_result pvs_cull_map_build(pvs_raster *raster, const float eye[3], const pvs_facade_chain *chains,
 									  uint32_t chain_count, uint32_t flags);
 /* Cull map, width * height heights, row-major; cell (i, j) covers u in region[0] + [i, i+1] * (region[2] -
    region[0]) / width, v likewise. NULL without a cull map. */
 PVS_API const float *pvs_cull_map(const pvs_raster *raster, uint32_t *width, uint32_t *height, float region[4]);
-/* 1 if a cell the box overlaps holds a height <= its top (Wonka 1999 §4.3); outside the region: 1. */
+/* 1 if a cell box overlaps holds a height <= its top (Wonka 1999 §4.3); outside region: 1. */
 PVS_API int pvs_cull_map_test_box(const pvs_raster *raster, const pvs_box *box);
 
-/* Per-frame culling inputs; all zero: the 64 best scene triangles within a tenth of the scene (NULL params or
+/* Per-frame culling inputs; all zero: 64 best scene triangles within a tenth of scene (NULL params or
    PVS_CULL_FRUSTUM_ONLY: a frustum cull). */
 typedef struct pvs_cull_params {
-	const float *occluder_positions; /* the caller's occluder triangles: 3 floats per vertex; indices */
+	const float *occluder_positions; /* caller's occluder triangles: 3 floats per vertex; indices */
 	uint32_t occluder_vertex_count; /*   3 per triangle, or NULL for consecutive vertices */
 	const uint32_t *occluder_indices;
 	uint32_t occluder_triangle_count;
@@ -611,30 +615,29 @@ typedef struct pvs_cull_params {
 } pvs_cull_params;
 
 /* pvs_raster_cull: occluders drawn as meshes (pvs_raster_mesh: no cracks, some cost per frame). */
-#define PVS_CULL_OCCLUDER_MESH 1u /* the caller's triangles */
-#define PVS_CULL_SCENE_MESH 2u /* the selected scene triangles, welded (tighter on many-triangle walls) */
+#define PVS_CULL_OCCLUDER_MESH 1u /* caller's triangles */
+#define PVS_CULL_SCENE_MESH 2u /* selected scene triangles, welded (tighter on many-triangle walls) */
 #define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; by default each is a mesh */
 #define PVS_CULL_FRUSTUM_ONLY 8u /* no scene triangles unless scene_occluders says how many */
 
 typedef struct pvs_cull_stats {
 	uint32_t occluder_triangles; /* rasterized (caller's + selected scene ones) */
-	uint32_t nodes_visited; /* kD-tree nodes reached by the sweep */
+	uint32_t nodes_visited; /* kD-tree nodes reached by sweep */
 	uint32_t boxes_tested; /* node and object boxes tested */
 	uint32_t visible; /* objects reported */
 } pvs_cull_stats;
 
-/* From-point culling by depth pyramid: clears, sets the camera (aspect width / height), draws the occluders,
-   builds the pyramid, sweeps the object kD-tree front to back (Bittner 2002 §3.2) skipping hidden subtrees. Sets in
-   `visible` (PVS_BITSET_WORDS(object_count) words, cleared first) every object whose box may be seen on screen, never
+/* From-point culling by depth pyramid: clears, sets camera (aspect width / height), draws occluders, builds pyramid,
+   sweeps object kD-tree front to back (Bittner 2002 §3.2) skipping hidden subtrees. Sets in `visible`
+   (PVS_BITSET_WORDS(object_count) words, cleared first) every object whose box may be seen on screen, never
    occluder-only ones. `stats` may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (a scene
-   larger than the context's). */
+   larger than context's). */
 PVS_API pvs_result pvs_raster_cull(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
 								   const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 								   pvs_error *err);
-/* 2.5D twin (Wonka 1999): builds the cull map from the eye with params->facades (and per flag the scene's
-   occluders), scans the object grid with §4.3's two-level bounding-height test and sets every object in the frustum
-   not under the shadows; orthographic cameras only get the frustum test. `scene`: the context's. Outputs and errors
-   as pvs_raster_cull. */
+/* 2.5D twin (Wonka 1999): builds cull map from eye with params->facades (and per flag scene's occluders), scans object
+   grid by §4.3's two-level bounding-height test and sets every object in frustum not under shadows; orthographic
+   cameras only get frustum test. `scene`: context's. Outputs and errors as pvs_raster_cull. */
 PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
 									   const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 									   pvs_error *err);
@@ -643,8 +646,8 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scen
 /* Occlusion trees (Bittner 2002): BSPs over line space built front to back; every float decision conservative. */
 
 typedef struct pvs_otree_stats {
-	uint32_t nodes; /* at the end (of the largest tree) */
-	uint32_t occluders_inserted; /* merged into the tree(s) */
+	uint32_t nodes; /* at end (of largest tree) */
+	uint32_t occluders_inserted; /* merged into tree(s) */
 	uint32_t visible_segments; /* 2D: segments found visible */
 	uint32_t budget_exceeded; /* 1: node_budget stopped insertion; the rest do not block */
 } pvs_otree_stats;
@@ -661,30 +664,30 @@ typedef struct pvs_visibility_2d_desc {
 	const uint32_t *segment_objects; /* NULL (segment i is object i) or per segment its object or PVS_NO_OBJECT */
 	uint32_t object_count; /* bits in visible_objects */
 	uint32_t node_budget; /* stop inserting past it (0 = 2^20) */
-	uint32_t flags; /* 0 (1: the tests' occluders in input order) */
+	uint32_t flags; /* 0 (1: tests' occluders in input order) */
 	pvs_allocator allocator;
 } pvs_visibility_2d_desc;
 
-/* Segments (and objects) seen from a cell point along a line crossing no other segment (touching an end point does
-   not block; segments crossing the cell are visible): exact, rounding toward visible. visible_segments,
-   visible_objects (PVS_BITSET_WORDS of segment_count, object_count; may be NULL, like stats) cleared first. Errors:
-   INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe;
-   allocates via desc->allocator. */
+/* Segments (and objects) seen from a cell point along a line crossing no other segment (touching an end point does not
+   block; segments crossing cell are visible): exact, rounding toward visible. visible_segments, visible_objects
+   (PVS_BITSET_WORDS of segment_count, object_count; may be NULL, like stats) cleared first. Errors: INVALID_ARGUMENT,
+   NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe; allocates via
+   desc->allocator. */
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
 									 pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err);
 
 /* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v) and height. */
 typedef struct pvs_visibility_25d_desc {
 	float cell_min[2], cell_max[2]; /* cell's ground rectangle */
-	float cell_top; /* highest eye height in the cell */
-	const float *facades; /* facade_count x (u0, v0, u1, v1, top): opaque walls on the ground */
+	float cell_top; /* highest eye height in cell */
+	const float *facades; /* facade_count x (u0, v0, u1, v1, top): opaque walls on ground */
 	uint32_t facade_count;
 	const float *objects; /* object_count x (umin, vmin, umax, vmax, top) bounds; umin > umax = empty */
 	uint32_t object_count;
 	uint32_t node_budget; /* per tree (0 = PVS_OTREE_25D_BUDGET) */
 	const pvs_kdtree *tree; /* NULL or a kD-tree over pvs_visibility_25d_boxes */
 	pvs_allocator allocator;
-	uint32_t flags; /* 0 (1: the tests' box tests without the witness-line shortcut; same result) */
+	uint32_t flags; /* 0 (1: tests' box tests without witness-line shortcut; same result) */
 } pvs_visibility_25d_desc;
 
 /* Default 2.5D occlusion tree node budget; once spent, further facades are not inserted (conservative), objects
@@ -696,18 +699,18 @@ typedef struct pvs_visibility_25d_desc {
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
 									  uint32_t object_count, pvs_box *boxes);
 
-/* Objects maybe visible from the cell (ground rectangle x heights to cell_top), facades reaching below all cells and
-   objects; never misses one. Ignores facades crossing the cell. visible_objects: object bitset, cleared first; stats
-   may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY. Thread-safe; allocates via desc->allocator. */
+/* Objects maybe visible from cell (ground rectangle x heights to cell_top), facades reaching below all cells and
+   objects; never misses one. Ignores facades crossing cell. visible_objects: object bitset, cleared first; stats may be
+   NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY. Thread-safe; allocates via desc->allocator. */
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects,
 									  pvs_otree_stats *stats, pvs_error *err);
 
 /* From-point culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), pvs_raster_cull's object-space twin:
-   per frame, occluders merge front to back into a BSP of planes through the eye; the object kD-tree is walked front
-   to back against it (§4.10.2's conservative box test, refined at in-leaves by the exact "FME" test, Table 4.1) with
-   hierarchy updating (§4.11.4), same result as testing each node. Occluders (§4.5): caller's triangles; the best
-   `scene_occluders` by area-angle among triangles of objects seen within `occluder_distance` last frame (after
-   create or reset: all within it); per `scene_volumes`, BOX faces and EXTRUSION walls within it. */
+   per frame, occluders merge front to back into a BSP of planes through eye; object kD-tree is walked front to back
+   against it (§4.10.2's conservative box test, refined at in-leaves by exact "FME" test, Table 4.1) with hierarchy
+   updating (§4.11.4), same result as testing each node. Occluders (§4.5): caller's triangles; the best
+   `scene_occluders` by area-angle among triangles of objects seen within `occluder_distance` last frame (after create
+   or reset: all within it); per `scene_volumes`, BOX faces and EXTRUSION walls within it. */
 typedef struct pvs_otree_desc {
 	/* Required: sizes per-node state; pvs_otree_cull takes no larger scene (objects, triangles, kD nodes). */
 	const pvs_scene *scene;
@@ -718,7 +721,7 @@ typedef struct pvs_otree_desc {
 	pvs_allocator allocator;
 } pvs_otree_desc;
 #define PVS_OTREE_NO_COHERENCE 1u /* test every reached kD node every frame (§4.11.2) */
-#define PVS_OTREE_PLANE_ONLY 2u /* in-leaves test the fragment's plane only ("FMC") */
+#define PVS_OTREE_PLANE_ONLY 2u /* in-leaves test fragment's plane only ("FMC") */
 
 /* Node pool, last frame's kD node states. One per thread. */
 typedef struct pvs_otree pvs_otree;
@@ -727,7 +730,7 @@ typedef struct pvs_otree pvs_otree;
 typedef struct pvs_otree_frame {
 	uint32_t tree_nodes; /* inner and leaves */
 	uint32_t fragments; /* occluder fragments at in-leaves */
-	uint32_t occluders; /* offered to the tree (caller's + scene's) */
+	uint32_t occluders; /* offered to tree (caller's + scene's) */
 	uint32_t node_tests; /* kD nodes tested (frustum + tree) */
 	uint32_t nodes_skipped; /* opened kD nodes whose test hierarchy updating skipped */
 	uint32_t object_tests; /* boxes tested in partly visible leaves */
@@ -738,11 +741,11 @@ typedef struct pvs_otree_frame {
 PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out_otree, pvs_error *err);
 /* Frees; NULL ok. */
 PVS_API void pvs_otree_destroy(pvs_otree *otree);
-/* Forgets the last frame (camera cut). */
+/* Forgets last frame (camera cut). */
 PVS_API void pvs_otree_reset(pvs_otree *otree);
 /* Outputs as pvs_raster_cull (plane tests lean toward "visible"); `params` may be NULL, facades ignored. Errors:
-   INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic), BUFFER_TOO_SMALL (scene larger than the
-   context's). Allocates nothing. */
+   INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic), BUFFER_TOO_SMALL (scene larger than context's). No
+   allocation. */
 PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
 								  const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 								  pvs_error *err);
@@ -750,27 +753,26 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
 
 /* ---- occluders ---- */
 
-/* Occluder synthesis: certainly-solid volumes for the shrink method (Wonka 2000 §2: its appendix theorem needs
-   volumetric occluders). A voxel is solid only if crossing-parity floods from the cells prove no viewer reaches it
-   without touching a triangle (>>occluders, "certified solid"), or it is in an explicit occluder volume. Openings
-   narrower than a voxel stay open; a crack or T-junction (edge used by an odd count of triangles) gives no volume on
-   the vertical sheet below it; enclosures made only by several meshes together are missed. Solids are eroded by eps
-   (rounding toward less solid) into boxes (3D) and column heights (2.5D). Leaks: the few cells reaching outside the
-   box of the component holding most cells are left out of later floods, so the rest keep their walls
-   (pvs_occluders_excluded_cells). */
+/* Occluder synthesis: certainly-solid volumes for shrink method (Wonka 2000 §2: its appendix theorem needs volumetric
+   occluders). A voxel is solid only if crossing-parity floods from cells prove no viewer reaches it without touching a
+   triangle (>>occluders, "certified solid"), or is in an explicit occluder volume. Openings narrower than a voxel stay
+   open; a crack or T-junction (edge of an odd count of triangles) gives no volume on vertical sheet below it;
+   enclosures made only by several meshes together are missed. Solids erode by eps (rounding toward less solid) into
+   boxes (3D) and column heights (2.5D). Leaks: few cells reaching outside box of component holding most cells are left
+   out of later floods, so the rest keep their walls (pvs_occluders_excluded_cells). */
 typedef struct pvs_occluders_desc {
-	const pvs_scene *scene; /* required; must outlive the occluders */
+	const pvs_scene *scene; /* required; must outlive occluders */
 	const pvs_box *cells; /* required: cell_count >= 1 view cells, flood sources */
 	uint32_t cell_count;
 	float eps; /* erosion distance, > 0 */
-	float voxel_size; /* 0 = eps / 1.5, grown until the grid fits max_voxels */
+	float voxel_size; /* 0 = eps / 1.5, grown until grid fits max_voxels */
 	uint32_t max_voxels; /* 0 = 1 << 24 */
 	uint32_t flags; /* PVS_OCCLUDERS_* */
 	pvs_allocator allocator;
 } pvs_occluders_desc;
 
-/* Leaking cells seed floods too (a leak then opens walls for all cells); used by the bake's second synthesis, for
-   left-out cells. */
+/* Leaking cells seed floods too (a leak then opens walls for all cells); used by bake's second synthesis, for left-out
+   cells. */
 #define PVS_OCCLUDERS_KEEP_LEAKS 1u
 
 /* Immutable, thread-safe to read. */
@@ -784,25 +786,25 @@ typedef struct pvs_occluders_info {
 	uint64_t touched; /* voxels a triangle touches */
 	uint64_t solid; /* solid voxels before erosion (with explicit volumes) */
 	uint64_t eroded; /* solid voxels after erosion */
-	uint64_t column_voxels; /* solid voxels in runs on the ground (2.5D) */
+	uint64_t column_voxels; /* solid voxels in runs on ground (2.5D) */
 	uint32_t box_count; /* eroded 3D boxes */
 	uint32_t rect_count; /* eroded 2.5D column rectangles */
 	int is_2d5; /* 1: column runs hold >= 90% of solid voxels: 2.5D path */
-	uint32_t leak_cell; /* lowest cell reaching the grid border, or PVS_NO_CELL */
+	uint32_t leak_cell; /* lowest cell reaching grid border, or PVS_NO_CELL */
 	float leak_point[3]; /* a voxel centre of that cell on such a path */
-	uint32_t leak_cells; /* cells reaching the border */
+	uint32_t leak_cells; /* cells reaching border */
 	uint32_t excluded_cells; /* leaking cells left out, without occluders (< half of those in a component's box) */
 	uint32_t thin_objects; /* drawable objects with no solid voxel in their box */
 	uint32_t components; /* edge-connected triangle sets flooded (3+ triangles) */
 	uint32_t closed_components; /* of them, those with no open edge */
-	uint64_t open_edges; /* edges used by an odd count of triangles, off the ground */
+	uint64_t open_edges; /* edges used by an odd count of triangles, off ground */
 	uint64_t undecided_columns; /* component voxel columns with no certain parity */
 } pvs_occluders_info;
 
 #define PVS_VOXEL_EMPTY 0u /* untouched, not solid */
 #define PVS_VOXEL_TOUCHED 1u /* touched by a triangle, not solid */
 #define PVS_VOXEL_SOLID 2u /* solid (before erosion) */
-#define PVS_VOXEL_GROUND 3u /* padding layer below the ground */
+#define PVS_VOXEL_GROUND 3u /* padding layer below ground */
 
 /* Deterministic; thread-safe for distinct outputs. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or not
    finite), BAD_CELL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
@@ -816,13 +818,12 @@ PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i,
 PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
 /* Eroded 3D boxes (*count), owned by occluders; every point within eps of one is solid. */
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
-/* Shrunk 2.5D occluders, facade chains owned by occluders (base the ground, top lowered by eps): boundaries of the
-   column map's regions at or above a height, closed, and of their holes, open back to the first point. Points within
-   eps of such a prism are unreachable or underground. */
+/* Shrunk 2.5D occluders, facade chains owned by occluders (base ground, top lowered by eps): boundaries of column map's
+   regions at or above a height, closed, and of their holes, open back to first point. Points within eps of such a prism
+   are unreachable or underground. */
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
-/* Column map at ground point (u, v): *solid the height below which the column is proved solid (else the ground);
-   returns shrunk occluder height (else -FLT_MAX). Outside the map: ground, -FLT_MAX. On a square's edge the lower
-   neighbour counts. */
+/* Column map at ground point (u, v): *solid height below which column is proved solid (else ground); returns shrunk
+   occluder height (else -FLT_MAX). Outside map: ground, -FLT_MAX. On a square's edge lower neighbour counts. */
 PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float u, float v, float *solid);
 /* Left-out leaking cells (ascending indices into desc->cells) or NULL, owned by occluders; pvs_shrink_cell sets every
    object for boxes inside them. */
@@ -831,12 +832,12 @@ PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occlud
 /* ---- vocc ---- */
 #endif /* PVS_RUNTIME_ONLY */
 
-/* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in the real
-   occluders' umbra from the whole cell, standing for their aggregate occlusion; five bytes each in the VOCC section. */
+/* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in real occluders'
+   umbra from whole cell, standing for their aggregate occlusion; five bytes each in VOCC section. */
 struct pvs_file; /* >>format */
 
 /* pvs_file.vocc_flags */
-#define PVS_VOCC_STORED 1u /* the file has a VOCC section */
+#define PVS_VOCC_STORED 1u /* file has a VOCC section */
 #define PVS_VOCC_ONLY 2u /* ... and records are placeholders (every drawable object): use pvs_vocc_cull */
 
 /* Vertical rectangle over ground segment p0-p1 (u, v as in pvs_scene_desc), from `base` to `top`. */
@@ -845,16 +846,16 @@ typedef struct pvs_virtual_occluder {
 	float base, top;
 } pvs_virtual_occluder;
 
-#ifndef PVS_RUNTIME_ONLY /* the construction */
+#ifndef PVS_RUNTIME_ONLY /* construction */
 /* Sums over cells and slices. */
 typedef struct pvs_vocc_stats {
 	uint32_t slices; /* height slices (§3.1) */
 	uint32_t seeds; /* seed objects grown (§3) */
 	uint32_t umbra; /* objects growing an aggregate umbra (§3 cases 1, 3) */
 	uint32_t separating;	/* objects only bending a separating line (case 2) */
-	uint32_t dense; /* certified virtual occluders in the dense set */
-	uint32_t dropped; /* failed the final check (e.g. quantized) */
-	uint32_t selected; /* kept by the greedy selection (Fig. 6) */
+	uint32_t dense; /* certified virtual occluders in dense set */
+	uint32_t dropped; /* failed final check (e.g. quantized) */
+	uint32_t selected; /* kept by greedy selection (Fig. 6) */
 } pvs_vocc_stats;
 
 /* §3's 2D construction alone. Zero fields: defaults. */
@@ -868,35 +869,35 @@ typedef struct pvs_vocc_2d_desc {
 	pvs_allocator allocator;
 } pvs_vocc_2d_desc;
 
-/* Cell's dense set of 2D virtual occluders (§3), each checked exactly hidden from the whole cell (rounding up to a
+/* Cell's dense set of 2D virtual occluders (§3), each checked exactly hidden from whole cell (rounding up to a
    relative 1e-9, toward "not hidden"). Writes up to `capacity` (x0, y0, x1, y1) to `occluders` (NULL: count only),
-   *count all found. Ignores segments meeting the cell; stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE,
-   BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates via desc->allocator. */
+   *count all found. Ignores segments meeting cell; stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, BAD_CELL,
+   OUT_OF_MEMORY. Thread-safe; allocates via desc->allocator. */
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, uint32_t capacity, uint32_t *count,
 							   pvs_vocc_stats *stats, pvs_error *err);
 #endif /* PVS_RUNTIME_ONLY */
 
-/* 1 if `o` alone hides the box from the whole cell: every segment between the ground rectangles crosses p0-p1 and
-   heights hold at each crossing fraction t (a sight line meets the occluder's plane at height (1 - t) eye + t target).
-   Conservative under rounding; 0 for an empty box or degenerate occluder. */
+/* 1 if `o` alone hides box from whole cell: every segment between ground rectangles crosses p0-p1 and heights hold at
+   each crossing fraction t (a sight line meets occluder's plane at height (1 - t) eye + t target). Conservative under
+   rounding; 0 for an empty box or degenerate occluder. */
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
 								const pvs_box *box);
 
-/* Scratch bytes of pvs_vocc_cull* for up to max_occluders (<= 255 per cell in a file) and the tree (may be NULL). */
+/* Scratch bytes of pvs_vocc_cull* for up to max_occluders (<= 255 per cell in a file) and tree (may be NULL). */
 PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_occluders);
 
-/* Rebuilds a PVS (Koltun 2000 §2, §4): sets in `visible` (object bitset, cleared first) every object with a
-   non-empty box no single occluder hides (tried in order). With a `tree` over the same boxes (item i = object i;
-   best with 16+ items a leaf) a subtree is skipped if one occluder hides its node box (an object behind several
-   occluders may drop out too; still conservative); tree NULL tests every box. scratch: pvs_vocc_cull_scratch_size
-   bytes, any alignment. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. Allocates nothing; thread-safe. */
+/* Rebuilds a PVS (Koltun 2000 §2, §4): sets in `visible` (object bitset, cleared first) every object with a non-empty
+   box no single occluder hides (tried in order). With a `tree` over same boxes (item i = object i; best with 16+ items
+   a leaf) a subtree is skipped if one occluder hides its node box (an object behind several occluders may drop out too;
+   still conservative); tree NULL tests every box. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors:
+   INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation; thread-safe. */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders,
 										   uint32_t count, const pvs_box *object_boxes, uint32_t object_count,
 										   const pvs_kdtree *tree, void *scratch, size_t scratch_size,
 										   pvs_word *visible, pvs_error *err);
 
-/* pvs_vocc_cull_occluders on the file's first max_occluders (0 = all) of `cell`, with the engine's boxes and tree of
-   the baked scene. INVALID_ARGUMENT also without VOCC section. */
+/* pvs_vocc_cull_occluders on file's first max_occluders (0 = all) of `cell`, with engine's boxes and tree of baked
+   scene. INVALID_ARGUMENT also without VOCC section. */
 PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uint32_t max_occluders,
 								 const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
 								 void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
@@ -911,7 +912,7 @@ typedef enum pvs_method {
 	PVS_METHOD_EXTPROJ, /* extended projections (Durand et al. 2000): 3D, planar occluders */
 	PVS_METHOD_SHRINK, /* occluder shrinking + point sampling (Wonka 2000) */
 	PVS_METHOD_AUTO, /* conservative methods that apply, PVSs intersected */
-	PVS_METHOD_VOCC, /* virtual occluders (Koltun 2000), 2.5D: stored; the PVS is what they rebuild */
+	PVS_METHOD_VOCC, /* virtual occluders (Koltun 2000), 2.5D: stored; PVS is what they rebuild */
 	PVS_METHOD_PORTAL, /* rooms and portals from closed convex solids, portal flow (Teller 1992) */
 	PVS_METHOD_COUNT
 } pvs_method;
@@ -919,11 +920,11 @@ typedef enum pvs_method {
 /* Method name ("sample"), or "unknown". */
 PVS_API const char *pvs_method_name(pvs_method method);
 
-#ifndef PVS_RUNTIME_ONLY /* the methods' parameters, the bake, the encoder */
+#ifndef PVS_RUNTIME_ONLY /* methods' parameters, bake, encoder */
 /* Shrink method paths. */
 typedef enum pvs_shrink_mode {
 	PVS_SHRINK_AUTO = 0, /* 2.5D if occluders are (pvs_occluders_info.is_2d5), else 3D */
-	PVS_SHRINK_2D5, /* Wonka 2000 §3: column occluders, samples on the cell's top, cull maps */
+	PVS_SHRINK_2D5, /* Wonka 2000 §3: column occluders, samples on cell's top, cull maps */
 	PVS_SHRINK_3D, /* samples on six faces, depth maps of eroded boxes */
 	PVS_SHRINK_MODE_COUNT
 } pvs_shrink_mode;
@@ -938,35 +939,35 @@ typedef struct pvs_shrink_stats {
 	uint32_t hidden; /* drawable objects left out */
 } pvs_shrink_stats;
 
-/* Shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from the cell every
-   eps; an object is left out only if every sample sees it hidden (appendix theorem: then every cell point does).
-   Objects meeting the cell or under its top face stay. Sets bits in `visible` (object bitset, not cleared), never
-   occluder-only ones; objects set on entry are not tested. `occluders`: this scene's; `stats` may be NULL; no
-   occluders is no error. Scratch from the occluders' allocator, freed on return: thread-safe. Errors:
-   INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a path this build cannot run), OUT_OF_MEMORY. */
+/* Shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from cell every eps;
+   an object is left out only if every sample sees it hidden (appendix theorem: then every cell point does). Objects
+   meeting cell or under its top face stay. Sets bits in `visible` (object bitset, not cleared), never occluder-only
+   ones; objects set on entry are not tested. `occluders`: this scene's; `stats` may be NULL; no occluders is no error.
+   Scratch from occluders' allocator, freed on return: thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a
+   path this build cannot run), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
 								   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
 /* Estimator: `points` stratified points in `cell` (corners and face centres, then a jittered grid), `rays_per_point`
-   uniform directions each; sets in `visible` (object bitset, not cleared; never occluder-only objects) the first
-   object each ray hits and see-through ones it crosses first. A lower bound. Deterministic in `seed`; thread-safe,
-   no allocation. Returns # rays. */
+   uniform directions each; sets in `visible` (object bitset, not cleared; never occluder-only objects) first object
+   each ray hits and see-through ones it crosses first. A lower bound. Deterministic in `seed`; thread-safe, no
+   allocation. Returns # rays. */
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
 									   uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
 /* Aimed sampling, better for small, far objects: per object of `targets` (NULL: all) not in `visible`, up to
    `rays_per_object` segments from a uniform point of `cell` to a uniform point of one of its triangles (pulled 1%
-   toward the centroid) until one reaches it; each sets the first object it hits. Occluder-only objects neither set
-   nor aimed at. Else as pvs_sample_visibility. */
+   toward centroid) until one reaches it; each sets first object it hits. Occluder-only objects neither set nor aimed
+   at. Else as pvs_sample_visibility. */
 PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
 											  uint32_t rays_per_object, uint64_t seed, pvs_word *visible);
 
 /* ---- extended projections (Durand, Drettakis, Thollot, Puech 2000) ---- */
 
-/* Projection plane (Durand 2000 §2.4, §6.1) perpendicular to `axis`, `distance` > 0 beyond the cell's face on `side`
-   (+1: max, -1: min); Depth (§2.3): distance past that face. rect = (u0, v0, u1, v1) over u = (axis + 1) % 3,
-   v = (axis + 2) % 3 in width x height pixels (pixel (i, j): u0 + [i, i + 1] * (u1 - u0) / width, v likewise).
-   Depth map: width * height floats, row j first, per pixel nearest occluder Projection's Depth or PVS_EXTPROJ_EMPTY. */
+/* Projection plane (Durand 2000 §2.4, §6.1) perpendicular to `axis`, `distance` > 0 beyond cell's face on `side` (+1:
+   max, -1: min); Depth (§2.3): distance past that face. rect = (u0, v0, u1, v1) over u = (axis + 1) % 3, v = (axis +
+   2) % 3 in width x height pixels (pixel (i, j): u0 + [i, i + 1] * (u1 - u0) / width, v likewise). Depth map: width *
+   height floats, row j first, per pixel nearest occluder Projection's Depth or PVS_EXTPROJ_EMPTY. */
 typedef struct pvs_extproj_plane {
 	pvs_box cell;
 	uint32_t axis;
@@ -977,23 +978,23 @@ typedef struct pvs_extproj_plane {
 } pvs_extproj_plane;
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
 #define PVS_EXTPROJ_SWEEP_PLANES 16u /* per direction, pvsbake --sweep and AUTO */
-#define PVS_EXTPROJ_NO_SWEEP 0xffffffffu /* pvs_bake_desc.extproj.sweep: AUTO without the sweep */
+#define PVS_EXTPROJ_NO_SWEEP 0xffffffffu /* pvs_bake_desc.extproj.sweep: AUTO without sweep */
 #define PVS_EXTPROJ_RESOLUTION 256u /* default pixels per plane side */
 #define PVS_EXTPROJ_PREVIEW_RESOLUTION 64u /* with PVS_BAKE_PREVIEW */
 
 /* Adds a convex occluder's extended Projection (§3.2): `points` (1..16 x (x, y, z)), planar convex polygon or closed
-   convex solid (skipped if its box meets the cell); clipped to depths > 0, split at the plane. Only pixels a part
-   covers from every cell point (its views from the 8 corners intersected) get min(stored, part's greatest depth,
-   §2.3). Returns pixel writes per part, 0 if none or on bad arguments. Thread-safe on distinct maps; no allocation. */
+   convex solid (skipped if its box meets cell); clipped to depths > 0, split at plane. Only pixels a part covers from
+   every cell point (its views from 8 corners intersected) get min(stored, part's greatest depth, §2.3). Returns pixel
+   writes per part, 0 if none or on bad arguments. Thread-safe on distinct maps; no allocation. */
 PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count,
 									  float *depth_map);
 
-/* Occludee box's extended Projection (§3.1): bounding rectangle of its views from the whole cell as inclusive pixel
-   bounds rect = (i0, j0, i1, j1), maybe off the map, and its least Depth. 0 if the box is not wholly beyond the face
-   (this plane cannot decide it), else 1. No allocation. */
+/* Occludee box's extended Projection (§3.1): bounding rectangle of its views from whole cell as inclusive pixel bounds
+   rect = (i0, j0, i1, j1), maybe off map, and its least Depth. 0 if box is not wholly beyond face (this plane cannot
+   decide it), else 1. No allocation. */
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *box, int32_t rect[4], float *depth);
 
-/* 1 if a pixel of the occludee's rect is off the map or stores a Depth >= depth; 0: hidden (§2.2). */
+/* 1 if a pixel of occludee's rect is off map or stores a Depth >= depth; 0: hidden (§2.2). */
 PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_map, const int32_t rect[4],
 							 float depth);
 
@@ -1015,13 +1016,13 @@ typedef struct pvs_bake_extproj_params {
 	/* Pixels per plane side, 16..4096; 0 = PVS_EXTPROJ_RESOLUTION (PREVIEW: _PREVIEW_RESOLUTION). Sweep planes
 	   spread them square over cell and scene's span. */
 	uint32_t resolution;
-	uint32_t occluders; /* on the planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
+	uint32_t occluders; /* on planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
 	/* Occlusion sweep (Durand 2000 §5) planes per direction, <= 256, 0 = none; AUTO: 0 = PVS_EXTPROJ_SWEEP_PLANES
 	   (PREVIEW: none), PVS_EXTPROJ_NO_SWEEP = none. An object with its box not hidden is then kept only if some
 	   of its triangles may be seen (over 16,384 triangles: by box). */
 	uint32_t sweep;
-	/* With the sweep, 4: each plane holds the union of umbrae of the cell's four quarters; an object must be hidden
-	   from each (tighter on foliage, a few times slower); 0 or 1: the cell's umbra. */
+	/* With sweep, 4: each plane holds union of umbrae of cell's four quarters; an object must be hidden from each
+	   (tighter on foliage, a few times slower); 0 or 1: cell's umbra. */
 	uint32_t sweep_subcells;
 } pvs_bake_extproj_params;
 
@@ -1029,7 +1030,7 @@ typedef struct pvs_bake_extproj_params {
    low half first. Not with shards. */
 typedef struct pvs_bake_adaptive_params {
 	uint32_t budget; /* triangles per leaf cell's PVS, 0 = off */
-	float min_size; /* shortest half, 0 = 1/8 of the cell's longest side */
+	float min_size; /* shortest half, 0 = 1/8 of cell's longest side */
 } pvs_bake_adaptive_params;
 
 /* SHRINK's parameters (also under AUTO). */
@@ -1058,14 +1059,14 @@ typedef struct pvs_bake_portal_params {
 
 /* What to bake. Zero fields (also per method): defaults. */
 typedef struct pvs_bake_desc {
-	const pvs_scene *scene; /* must outlive the bake */
+	const pvs_scene *scene; /* must outlive bake */
 	const pvs_box *cells; /* cell_count, copied */
 	uint32_t cell_count;
 	pvs_method method; /* PVS_METHOD_DEFAULT = AUTO */
 	float eps; /* sampling / shrinking distance, 0 = from cells */
 	uint32_t max_chain; /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
 	/* Shards, shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into a part file; parts
-	   0..shard_count-1 decoded, encoded whole (pvs_file_encode) give the unsharded file. */
+	   0..shard_count-1 decoded, encoded whole (pvs_file_encode) give unsharded file. */
 	uint32_t shard_index, shard_count;
 	uint32_t methods; /* for AUTO: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC, PORTAL */
 	float max_distance; /* draw distance (CONCEPTS); 0: none */
@@ -1077,22 +1078,22 @@ typedef struct pvs_bake_desc {
 	pvs_bake_vocc_params vocc;
 	pvs_bake_otree_params otree;
 	pvs_bake_portal_params portal;
-	const char *const *object_names; /* optional: object_count names for the file (NAME), kept until written */
+	const char *const *object_names; /* optional: object_count names for file (NAME), kept until written */
 	pvs_allocator allocator;
 } pvs_bake_desc;
 
-/* AUTO's sample (CONCEPTS, Methods): cells baked with every applicable method; least share of the kept PVS a method
-   must cull beyond those kept to run on all cells (x2 per cost class over the first kept's). */
+/* AUTO's sample (CONCEPTS, Methods): cells baked with every applicable method; least share of kept PVS a method must
+   cull beyond those kept to run on all cells (x2 per cost class over first kept's). */
 #define PVS_AUTO_SAMPLE_CELLS 8u
 #define PVS_AUTO_MIN_GAIN 0.10
 
-/* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ: 64 pixels and
-   32 occluders per plane unless set, no sweep, object kD-tree nodes decided whole under a quarter radian or past
-   4,096 box tests. SHRINK doubles its derived eps. */
+/* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only cheapest applicable method. EXTPROJ: 64 pixels and 32
+   occluders per plane unless set, no sweep, object kD-tree nodes decided whole under a quarter radian or past 4,096 box
+   tests. SHRINK doubles its derived eps. */
 #define PVS_BAKE_PREVIEW 1u
-/* PVS_BAKE_COMPACT: finished cells' PVSs kept coded (the file's set coding), not in a cells x objects bit table:
-   memory grows with PVS sizes; also chosen if the table would exceed PVS_BAKE_COMPACT_BYTES. Files byte-identical
-   either way; pvs_bake_cell_pvs then decodes into one buffer of the bake. */
+/* PVS_BAKE_COMPACT: finished cells' PVSs kept coded (file's set coding), not in a cells x objects bit table: memory
+   grows with PVS sizes; also chosen if table would exceed PVS_BAKE_COMPACT_BYTES. Files byte-identical either way;
+   pvs_bake_cell_pvs then decodes into one buffer of bake. */
 #define PVS_BAKE_COMPACT 2u
 #ifndef PVS_BAKE_COMPACT_BYTES
 #define PVS_BAKE_COMPACT_BYTES ((size_t)64 << 20)
@@ -1102,7 +1103,7 @@ typedef struct pvs_bake pvs_bake;
 
 /* Validates desc, prepares tasks. Errors: INVALID_ARGUMENT, BAD_CELL (err->index = cell), NOT_FINITE, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out_bake, pvs_error *err);
-/* Tasks: today one per cell of the shard. */
+/* Tasks: today one per cell of shard. */
 PVS_API uint32_t pvs_bake_task_count(const pvs_bake *bake);
 PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *bake, uint32_t task);
 /* Thread-safe for distinct tasks. */
@@ -1119,8 +1120,8 @@ typedef struct pvs_bake_method_info {
 	const char *reason; /* why it runs or was skipped (static, non-NULL) */
 	uint32_t cells; /* tasks that ran it */
 	uint64_t pvs_sum; /* over those cells, PVS sizes it found alone */
-	/* (cell, drawable object) pairs only it left out of the intersection; one a later method did not test
-	   (kept_only) counts for all that culled it. */
+	/* (cell, drawable object) pairs only it left out of intersection; one a later method did not test (kept_only)
+	   counts for all that culled it. */
 	uint64_t sole_culls;
 	/* 1: it tested only what earlier methods kept (AUTO's SHRINK); pvs_sum counts their culls as kept. */
 	int kept_only;
@@ -1131,33 +1132,29 @@ typedef struct pvs_bake_method_info {
 } pvs_bake_method_info;
 /* Fills *info for i < pvs_bake_method_count, else (or NULL) INVALID_ARGUMENT. Not concurrent with pvs_bake_run_task. */
 PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *bake, uint32_t i, pvs_bake_method_info *info);
-/* 1 if the task ran (or was restored). */
+/* 1 if task ran (or was restored). */
 PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
-/* Resumes: marks a task done with its PVS from an earlier run with the same scene, cells and parameters; `bits`:
-   word_count >= PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe as pvs_bake_run_task. Errors:
-   INVALID_ARGUMENT (task out of range, NULL, a bit past the objects or of an occluder-only object), BUFFER_TOO_SMALL,
-   UNSUPPORTED (VOCC). */
+/* Resumes: marks a task done with its PVS from an earlier run with same scene, cells and parameters; `bits`: word_count
+   >= PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe as pvs_bake_run_task. Errors: INVALID_ARGUMENT
+   (task out of range, NULL, a bit past objects or of an occluder-only object), BUFFER_TOO_SMALL, UNSUPPORTED (VOCC). */
 PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count,
 										 pvs_error *err);
-/* SHRINK (alone or in AUTO): synthesized occluders (the bake's), the tasks' path; NULL / PVS_SHRINK_AUTO if SHRINK
-   was not prepared. */
+/* SHRINK (alone or in AUTO): bake's synthesized occluders, tasks' path; NULL / PVS_SHRINK_AUTO if unprepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
-/* Facades OTREE found: merged coplanar vertical triangles, each a wall segment with the height range [base, top] it
-   covers along its length. A cell uses a facade only toward objects whose bottom, like its own, is at or above the
-   facade's level (lowest of at most eight base heights >= its base). facades == 0: nothing culled. All zero if
-   OTREE was not prepared. */
+/* Facades OTREE found: merged coplanar vertical triangles, each a wall segment covering heights [base, top] along its
+   length. A cell uses a facade only toward objects whose bottom, like its own, is at or above facade's level (lowest of
+   at most eight base heights >= its base). facades == 0: nothing culled. All zero if not prepared. */
 typedef struct pvs_otree_bake_info {
 	uint32_t prepared; /* 1: bake prepared OTREE */
 	uint32_t vertical_triangles; /* vertical scene triangles */
-	uint32_t facades; /* facades in use (base at most the highest cell bottom) */
+	uint32_t facades; /* facades in use (base at most highest cell bottom) */
 	uint32_t levels; /* distinct base heights in use */
 	float lowest_level; /* lowest of them (if levels > 0) */
 } pvs_otree_bake_info;
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
 /* What PORTAL built (zeros if not prepared): closed convex solids, distinct face planes, BSP nodes and leaves, empty
-   leaves (rooms), portals between them (each way), leaves left empty at the depth limit, cells so far hitting the
-   budget. */
+   leaves (rooms), portals between them (each way), leaves left empty at depth limit, cells so far hitting budget. */
 typedef struct pvs_portal_info {
 	uint32_t solids, planes, nodes, leaves, rooms, portals, deep_leaves, cut_cells;
 } pvs_portal_info;
@@ -1174,17 +1171,17 @@ typedef struct pvs_bake_report {
 	uint32_t cells_excluded; /* SHRINK: leaking cells left out, baked with a second synthesis */
 	uint32_t cells_otree_budget; /* OTREE: cells whose tree hit otree.node_budget */
 } pvs_bake_report;
-/* Fills *report. Not concurrently with the tasks. */
+/* Fills *report. Not concurrently with tasks. */
 PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
-/* A run cell's PVS (object bitset; adaptive: whole cell), else NULL. Compact bakes: valid until the next call, which
-   must not run concurrently. */
+/* A run cell's PVS (object bitset; adaptive: whole cell), else NULL. Compact bakes: valid until next call, which must
+   not run concurrently. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
 /* Cells the file will hold: cell_count, or adaptive leaves of tasks run so far. */
 PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
 /* Exact file size, 0 before every task ran or on error. Encodes to measure: keep the number. */
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
-/* Writes the file (part file for a shard) into out[0..capacity); *out_size gets the size, also with
-   BUFFER_TOO_SMALL. Errors: NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
+/* Writes file (part file for a shard) into out[0..capacity); *out_size gets size, also with BUFFER_TOO_SMALL. Errors:
+   NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t capacity, size_t *out_size,
 									   pvs_error *err);
 /* Frees; NULL ok. */
@@ -1199,9 +1196,9 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 #define PVS_DEFAULT_CHAIN 16u	/* default bound K on a cell's delta chain */
 #define PVS_MAX_CHAIN 64u /* largest K a file may declare */
 
-#ifndef PVS_RUNTIME_ONLY /* the encoder */
-/* PVS table to encode: cell_count object bitsets. The encoder (Durand et al. 2000, §6.2) picks bases by a
-   depth-bounded minimum spanning tree over nearest neighbours weighted by delta size. */
+#ifndef PVS_RUNTIME_ONLY /* encoder */
+/* PVS table to encode: cell_count object bitsets. Encoder (Durand et al. 2000, §6.2) picks bases by a depth-bounded
+   minimum spanning tree over nearest neighbours weighted by delta size. */
 typedef struct pvs_file_desc {
 	const pvs_box *cells;
 	uint32_t cell_count;
@@ -1222,7 +1219,7 @@ typedef struct pvs_file_desc {
 	   in virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step (finite,
 	   step > 0); vocc_flags PVS_VOCC_ONLY for a placeholder table. */
 	const uint8_t *vocc_counts, *vocc_scales, *virtual_occluders;
-	uint32_t vocc_stride; /* bytes from a cell's occluders to the next; 0: back to back */
+	uint32_t vocc_stride; /* bytes from a cell's occluders to next; 0: back to back */
 	float vocc_base, vocc_height_step;
 	uint32_t vocc_flags;
 	uint64_t scene_fingerprint; /* 0: none; else an SCNE section (pvs_scene_fingerprint) */
@@ -1230,15 +1227,15 @@ typedef struct pvs_file_desc {
 	pvs_allocator allocator; /* encoder's scratch */
 } pvs_file_desc;
 
-/* Encodes the table into out[0..capacity), deterministically; *out_size gets the exact size, also with
-   BUFFER_TOO_SMALL; out == NULL only measures. Scratch from desc->allocator; thread-safe for distinct outputs. Errors:
-   INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY. */
+/* Encodes table into out[0..capacity), deterministically; *out_size gets exact size, also with BUFFER_TOO_SMALL; out ==
+   NULL only measures. Scratch from desc->allocator; thread-safe for distinct outputs. Errors: INVALID_ARGUMENT,
+   BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size,
 								   pvs_error *err);
 #endif /* PVS_RUNTIME_ONLY */
 
-/* Opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data, copy freely; read-only
-   to callers, `private_` the reader's. */
+/* Opened file: a view of caller's bytes, which must stay alive and unchanged. Plain data, copy freely; read-only to
+   callers, `private_` reader's. */
 typedef struct pvs_file {
 	const uint8_t *data;
 	size_t size;
@@ -1250,7 +1247,7 @@ typedef struct pvs_file {
 	uint32_t max_chain; /* K: no decode applies more deltas */
 	uint32_t key_count; /* cells stored whole */
 	uint32_t shard_index, shard_count, total_cell_count; /* a part file when shard_count >= 2 */
-	uint32_t vocc_flags; /* PVS_VOCC_*: 0 if the file has no virtual occluders */
+	uint32_t vocc_flags; /* PVS_VOCC_*: 0 if file has no virtual occluders */
 	uint32_t virtual_occluder_count; /* VOCC: occluders stored, all cells */
 	float vocc_base, vocc_height_step; /* VOCC: top = base + byte * step */
 	uint64_t scene_fingerprint; /* SCNE: baked scene's pvs_scene_fingerprint; 0: not recorded */
@@ -1271,7 +1268,7 @@ typedef struct pvs_file {
 
 /* Checks every FILE FORMAT rule (linear time, no allocation, no read outside data[0..size)), fills *file. Errors:
    INVALID_ARGUMENT, BAD_MAGIC, BAD_VERSION, TRUNCATED, BAD_HEADER, BAD_SECTION, CHECKSUM, BAD_CELL, BAD_TREE,
-   BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset: the byte, err->index: cell or section. */
+   BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset: byte, err->index: cell or section. */
 PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, pvs_error *err);
 
 /* How a cell's record is stored (pvsinfo prints these). */
@@ -1280,7 +1277,7 @@ typedef struct pvs_record_info {
 	uint32_t depth; /* deltas applied to decode it (0 for a key cell) */
 	uint32_t coding; /* of (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
 	uint32_t bytes; /* record size */
-	uint32_t base_size; /* a delta: size of the base's PVS */
+	uint32_t base_size; /* a delta: size of base's PVS */
 } pvs_record_info;
 #define PVS_CODING_COUNT 4
 /* Fills *info for cell < cell_count. No allocation. */
@@ -1291,14 +1288,14 @@ PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_r
 PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out,
 											uint32_t capacity);
 
-/* A cell's raw VOCC record: returns its occluder count (0 without VOCC), *bytes their five bytes each in the file,
+/* A cell's raw VOCC record: returns its occluder count (0 without VOCC), *bytes their five bytes each in file,
    *scale_code its scale (FILE FORMAT); either output may be NULL. */
 PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
 
 /* ---- runtime ---- */
 
-/* Object's name, NUL-terminated, in the file's bytes; NULL if the file stores no names (NAME) or object >=
-   object_count. No allocation. */
+/* Object's name, NUL-terminated, in file's bytes; NULL if file stores no names (NAME) or object >= object_count. No
+   allocation. */
 PVS_API const char *pvs_file_object_name(const pvs_file *file, uint32_t object);
 /* Lowest object named `name`, or PVS_NO_OBJECT (also without names): a linear scan. */
 PVS_API uint32_t pvs_file_find_object(const pvs_file *file, const char *name);
@@ -1308,19 +1305,19 @@ PVS_API uint32_t pvs_file_find_object(const pvs_file *file, const char *name);
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
 /* Box of a cell (< cell_count). */
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
-/* Decodes a cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): the chain's key,
-   then at most max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
+/* Decodes a cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): chain's key, then
+   at most max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
 PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count,
 								   pvs_error *err);
 
 /* Per object whose visibility changes: visible = 1 added, 0 removed. */
 typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
 
-/* Follows a viewer, reporting only objects that change (Durand et al. 2000, §6.2): a move to a cell whose base is the
+/* Follows a viewer, reporting only objects that change (Durand et al. 2000, §6.2): a move to a cell whose base is
    current one applies that delta; others decode into scratch and compare. No allocation. */
 typedef struct pvs_cursor {
 	const pvs_file *file;
-	uint32_t cell; /* PVS_NO_CELL before the first move */
+	uint32_t cell; /* PVS_NO_CELL before first move */
 	pvs_word *bits; /* current PVS (read only) */
 	pvs_word *scratch;
 	size_t word_count;
@@ -1331,9 +1328,9 @@ typedef struct pvs_cursor {
    INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
 PVS_API pvs_result pvs_cursor_init(pvs_cursor *cursor, const pvs_file *file, pvs_word *bits, pvs_word *scratch,
 								   size_t word_count, pvs_error *err);
-/* Moves to `cell` (PVS_NO_CELL empties the set), calling on_change (may be NULL) once per object entering or leaving:
-   ascending ids after a full decode, removals then additions (each ascending) after a delta. INVALID_ARGUMENT for a
-   cell out of range. */
+/* Moves to `cell` (PVS_NO_CELL empties set), calling on_change (NULL ok) once per object entering or leaving: ascending
+   ids after a full decode, removals then additions (each ascending) after a delta. INVALID_ARGUMENT: cell out of
+   range. */
 PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change_fn on_change, void *user);
 
 #ifdef __cplusplus
@@ -1378,7 +1375,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 #define PVS__UNUSED
 #endif
 #define PVS__STATIC static PVS__UNUSED
-/* the tests' flags (tests/test.h) */
+/* tests' flags (tests/test.h) */
 #define PVS__VISIBILITY_INPUT_ORDER 1u
 #define PVS__VISIBILITY_25D_FULL_TESTS 1u
 
@@ -1386,9 +1383,9 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 /* ==== core: result strings, allocator, errors, math, bitsets ==== */
 
 /* Shared kernels: errors, checked sizes (pvs__fail, pvs__mul), allocation (pvs__alloc*, pvs__free_array), growable
-   arrays (pvs__grow*), math, boxes, bitsets, RNG, allocation-free heaps, sorts (big bake-time sorts: PVS_QSORT),
-   union-find, little-endian bytes, CRC-32, bake's method-table interface. Elsewhere: pvs__kd_sweep (>>kdtree),
-   pvs__pyramid_level (>>raster). */
+   arrays (pvs__grow*), math, boxes, bitsets, RNG, allocation-free heaps and sorts (big bake sorts: PVS_QSORT),
+   union-find, little-endian bytes, CRC-32, bake's method table. Elsewhere: pvs__kd_sweep (>>kdtree), pvs__pyramid_level
+   (>>raster). */
 
 PVS_API const char *pvs_result_string(pvs_result r) {
 	static const char *const s[] = {
@@ -1454,8 +1451,7 @@ PVS__STATIC int pvs__add(size_t a, size_t b, size_t *out) {
 	return 1;
 }
 
-/* Allocation via desc's hooks; align: power of two <= 64. Without hooks, alignments above malloc's over-allocate,
-   offset in byte before block. */
+/* Via desc's hooks; align: power of two <= 64. Without hooks, align > 16 over-allocates, offset in the byte before. */
 PVS__STATIC void *pvs__alloc(const pvs_allocator *a, size_t size, size_t align) {
 	if (size == 0) size = 1;
 	if (a->alloc) return a->alloc(size, align, a->user);
@@ -1667,7 +1663,7 @@ PVS__STATIC float pvs__random01(uint64_t *state) {
 /* ---- growable arrays ---- */
 
 /* Grows array of `elem`-byte elements to hold `need` (doubling), keeping first `used`; capped at `limit` if limit >=
-   need. Returns array, or NULL with *r set (old one still caller's). */
+   need. Returns it, or NULL with *r set (old one still caller's). */
 PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
 								   size_t limit, size_t elem, pvs_result *r) {
 	size_t cap = *capacity ? *capacity : 64, bytes;
@@ -1727,8 +1723,8 @@ PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t 
 	}
 }
 
-/* Heap sort (Williams 1964; no libc) of base[0 .. n), `size` <= 64 bytes each, by `before`; with total order, same on
-   all platforms. */
+/* Heap sort (Williams 1964; no libc) of base[0 .. n), `size` <= 64 bytes each, by `before`; total order: same
+   everywhere. */
 PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)base, t[64];
 	size_t i;
@@ -1743,8 +1739,8 @@ PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_f
 	}
 }
 
-/* Top-k: `heap` holds *count <= k elements of `size` <= 64 bytes, root ranking last. e is kept if not full, or replaces
-   root if ranking before it (not if equal). */
+/* Top-k: `heap` holds *count <= k elements of `size` <= 64 bytes, root ranking last. e enters if not full or ranking
+   before root. */
 PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e,
 								 pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
@@ -1764,8 +1760,8 @@ PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t
 	memcpy(h + i * size, e, size);
 }
 
-/* Priority queue: binary heap of *n elements of `size` <= 64 bytes, first-ranking at root; pop moves root to *top.
-   Equal elements leave in an order fixed by pushes. */
+/* Priority queue: binary heap of *n elements of `size` <= 64 bytes, first-ranking at root; pop moves root to *top. Ties
+   leave in an order fixed by pushes. */
 PVS__STATIC void pvs__pq_push(void *heap, size_t *n, size_t size, const void *e, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
 	size_t i;
@@ -1849,12 +1845,12 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 #ifndef PVS_RUNTIME_ONLY /* up to >>vocc's quantization: bake side */
 /* ---- bake's method table (what >>bake's driver knows) ---- */
 
-/* A bake method: row of >>bake's table (pvs__bake_methods): functions over per-bake state. Driver checks every method's
-   parameters, prepares those the bake may run, keeps those that can cull in scene (AUTO), runs each on every cell,
-   intersects their PVSs. A new method: its module + a table row. */
+/* A bake method: a row of >>bake's pvs__bake_methods, functions over per-bake state. Driver checks all methods'
+   parameters, prepares those bake may run, keeps those that can cull in scene (AUTO), runs each on every cell,
+   intersects their PVSs. New method: its module + a row. */
 
-/* What a method sees of bake: `cells` every cell, not just shard's (prepare agrees between shards; the caller's, set
-   during prepare only); `task_cells` shard's, one per task. */
+/* What a method sees of bake: `cells` every cell, not just shard's (prepare agrees between shards; caller's, set during
+   prepare only); `task_cells` shard's, one per task. */
 typedef struct pvs__bake_env {
 	const pvs_scene *scene;
 	pvs_allocator allocator;
@@ -1888,14 +1884,14 @@ typedef struct pvs__bake_method {
 	int cost_class; /* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
 	/* Checks its parameters in desc, whatever bake runs. NULL: none. */
 	pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
-	/* Makes *state, read-only in tasks but for per-task slots; *state is destroyed even on failure. UNSUPPORTED: cannot
-	   run on this scene (AUTO skips it). */
+	/* Makes *state (read-only in tasks but for per-task slots; destroyed even on failure). UNSUPPORTED: cannot run on
+	   this scene (AUTO skips it). */
 	pvs_result (*prepare)(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err);
 	/* 1 if method can leave anything out in this scene; reason in *why either way. NULL: always. */
 	int (*applies)(const void *state, const char **why);
-	/* Method's PVS of task's box (cell or adaptive part) into `bits`, cleared by caller. `candidates` (may be NULL):
-	   what caller intersects with (parent PVS, earlier methods); method may test only those. Adds PVS__BAKE_* to
-	   *flags. Thread-safe for distinct tasks. */
+	/* PVS of task's box (cell or adaptive part) into `bits`, cleared by caller. `candidates` (NULL ok): what caller
+	   intersects it with (parent PVS, earlier methods), so method may test only those. Adds PVS__BAKE_* to *flags.
+	   Thread-safe for distinct tasks. */
 	pvs_result (*cell)(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
 					   const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err);
 	/* Fills its own file sections if bake runs it alone. NULL: none. */
@@ -2451,9 +2447,9 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
 }
 
 /* Scene's 2.5D facades for >>vocc: consecutive triangle pairs forming a vertical rectangle with bottom at or below
-   scene's lowest point; all else left out (conservative). (pvs__facades_extract would change vocc's results.) Writes
-   *count 6-float facades (u0 v0 u1 v1 top bottom), in triangle order, into new *out (6 count + 6 floats, allocator a;
-   NULL on failure). */
+   scene's lowest point, others left out (conservative; pvs__facades_extract would change vocc's results). *count
+   6-float facades (u0 v0 u1 v1 top bottom) in triangle order into new *out (6 count + 6 floats, allocator a; NULL on
+   failure). */
 PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocator *a, float **out, uint32_t *count) {
 	int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
 	float ground = s->bounds.min[up];
@@ -2583,9 +2579,9 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 
 /* Splits `node` (refs[base .. base + n) atop stack, cell `box`) or makes it a leaf. Binned SAH, all three axes (Bittner
    2002 §4.4; binning after Wald 2007); counts exact for closed-interval split below (but sampled in big nodes).
-   Budgets: straddling boxes go both sides: boxes overlapping everywhere would make memory quadratic. Build draws on two
-   pools set by pvs_kdtree_create, references a split adds (l + r - n) and nodes (two per split); split they cannot pay
-   is not taken (bigger leaf). Pools spent in build order: tree within them is the one built without. */
+   Budgets (straddling boxes go both sides: boxes overlapping everywhere would make memory quadratic): two pools set by
+   pvs_kdtree_create, of references a split adds (l + r - n) and nodes (two per split); a split they cannot pay is not
+   taken (bigger leaf). Pools spent in build order: tree within them is the one built without. */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
 									 uint32_t depth) {
 	pvs_kdtree *t = b->tree;
@@ -2597,7 +2593,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	pvs_box lbox, rbox;
 	if (n <= b->leaf_size || depth >= b->max_depth || b->nodes_left < 2) return pvs__kd_make_leaf(b, node, base, n);
 
-	/* box's SAH measure, k1[axis] * extent + k0[axis]: half the surface area, or edge sum if no area */
+	/* box's SAH measure, k1[axis] * extent + k0[axis]: half surface area, or edge sum if no area */
 	for (axis = 0; axis < 3; ++axis) ext[axis] = box->max[axis] - box->min[axis];
 	area = ext[0] * ext[1] + ext[1] * ext[2] + ext[2] * ext[0] > 0.0f;
 	for (axis = 0; axis < 3; ++axis) {
@@ -2931,8 +2927,7 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
 
 /* ---- ray walk ---- */
 
-/* Front-to-back stack walk (Havran's TA_rec_B family), double; leaf ranges widen by PVS__KD_RAY_TOL: no touched leaf
-   skipped. */
+/* Stack walk (Havran's TA_rec_B family), double; leaf ranges widen by PVS__KD_RAY_TOL: no touched leaf skipped. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const float dir[3], float tmax_f,
 							pvs_kdtree_ray_fn fn, void *user) {
 	struct {
@@ -3095,8 +3090,8 @@ PVS__STATIC int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]
 	return 1;
 }
 
-/* 2D edge function of sheared corners p, q: its sign tells side of p-q the ray passes. Corners sorted: shared edge
-   gives bit-identical results in both triangles. */
+/* 2D edge function of sheared corners p, q: its sign is the side of p-q the ray passes. Sorted corners: a shared edge
+   is bit-identical in both triangles. */
 PVS__STATIC double pvs__edge(const double *p, const double *q) { return p[0] * q[1] - p[1] * q[0]; }
 
 /* Two-sided watertight ray-triangle test: 1 and *t if ray meets triangle at 0 <= t <= tmax. */
@@ -3203,8 +3198,8 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 	return rc.triangle != 0xffffffffu;
 }
 
-/* What a sampled ray sees through see-through objects before it stops: sets objects of see-through triangles origin + t
-   dir crosses, 0 <= t <= tmax (same watertight test). */
+/* Sets objects of see-through triangles a sampled ray origin + t dir crosses before it stops, 0 <= t <= tmax (same
+   watertight test). */
 typedef struct pvs__see_through {
 	pvs__ray ray;
 	const pvs_scene *scene;
@@ -3246,15 +3241,15 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 /* ==== raster: conservative rasterizer (Durand 2000 §3.1-3.2), depth pyramid (§2.4), cull map (Wonka & Schmalstieg
    1999 §3-4), per-frame culling (Bittner 2002 §3.2, §4.5) ==== */
 
-/* Rounding. Per polygon (a triangle clipped to the near plane) setup is in double: edge functions E (>= 0 inside,
-   |a| + |b| = 1) at the range's corner plus their exact extreme over a pixel, min(0, a) + min(0, b) for inner coverage
-   (occluders) or max(0, a) + max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Error bounds are
-   subtracted (occluder) or added (occludee) before rounding to float: 2^-40 of the coordinates' size for setup and
-   projection, over the edge length, and 2^-20 of the terms for the float c + a i + b j. Depth z/w is affine: the
-   plane's extreme at pixel corners (inner) or among corners and vertices (outer), plus margin, clamped by the vertices'
-   extreme depth. Degenerate polygons cover nothing as occluders, their rectangle at the nearest depth as occludees.
-   Scalar and SIMD do the same float operations in order: bit-identical without FMA contraction (pragma below for
-   clang). Limit: the near-plane cut has no margin (an occludee may lose a sliver about 2^-51 |b - a| / near wide). */
+/* Rounding. Per polygon (a triangle clipped to near plane) setup is in double: edge functions E (>= 0 inside, |a| + |b|
+   = 1) at range's corner plus their exact extreme over a pixel, min(0, a) + min(0, b) for inner coverage (occluders) or
+   max(0, a) + max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Error bounds are subtracted
+   (occluder) or added (occludee) before rounding to float: 2^-40 of coordinates' size for setup and projection, over
+   edge length, and 2^-20 of terms for float c + a i + b j. Depth z/w is affine: plane's extreme at pixel corners
+   (inner) or among corners and vertices (outer), plus margin, clamped by vertices' extreme depth. Degenerate polygons
+   cover nothing as occluders, their rectangle at nearest depth as occludees. Scalar and SIMD do same float operations
+   in order: bit-identical without FMA contraction (pragma below for clang). Limit: near-plane cut has no margin (an
+   occludee may lose a sliver about 2^-51 |b - a| / near wide). */
 
 #if !defined(PVS_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #define PVS__SSE2 1
@@ -3262,6 +3257,19 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 #elif !defined(PVS_NO_SIMD) && (defined(__ARM_NEON) || defined(__ARM_NEON__))
 #define PVS__NEON 1
 #include <arm_neon.h>
+#endif
+/* AVX2 twins (issue 31): GCC and Clang build hot f again as f2 for AVX2 (flatten: with all it calls; VEX, wider loops,
+   no FMA: the same bits), run when the CPU has it (PVS__ISA). MSVC: /arch:AVX2 builds all so. */
+#if defined(PVS__SSE2) && !defined(__AVX2__) && (defined(__x86_64__) || defined(__i386__)) && \
+	(defined(__clang__) || __GNUC__ >= 5)
+#define PVS__TWIN(t, f, params, args) \
+	__attribute__((target("avx2"), flatten)) PVS__STATIC t f##2 params { return f args; }
+#define PVS__ISA(r, f, args) ((r)->avx2 ? f##2 args : f args)
+#define PVS__CPU_AVX2() __builtin_cpu_supports("avx2")
+#else
+#define PVS__TWIN(t, f, params, args)
+#define PVS__ISA(r, f, args) f args
+#define PVS__CPU_AVX2() 0
 #endif
 
 /* Lanes: four floats (pvs__f4), four int32 (pvs__i4), a mask (pvs__m4: lanes all ones or zero) and the SIMD kernels'
@@ -3455,6 +3463,7 @@ typedef struct pvs__occsel {
 struct pvs_raster {
 	pvs_allocator allocator;
 	uint32_t width, height, flags;
+	int avx2; /* PVS__ISA's choice */
 	float *depth; /* width * height */
 	float *tile_min; /* farthest per 8 x 8 tile */
 	size_t tiles;
@@ -3525,7 +3534,7 @@ struct pvs_raster {
 };
 
 typedef struct pvs__rsetup {
-	int32_t i0, i1, j0, j1; /* pixel range; (i0, j0) is the coefficients' origin */
+	int32_t i0, i1, j0, j1; /* pixel range; (i0, j0) is coefficients' origin */
 	int32_t li0, li1, lj0, lj1; /* part a loop covers (one tile) */
 	int edges;
 	float a[PVS__RASTER_MAXV], b[PVS__RASTER_MAXV], k[PVS__RASTER_MAXV];
@@ -3610,7 +3619,7 @@ PVS__STATIC void pvs__tile_update(float *buf, uint32_t W, uint32_t H, float *til
 }
 
 /* -1: every pixel of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fails an edge as float loops see it, 1: all pass, 0:
-   undecided (in double, slack 2^-18 of the terms). */
+   undecided (in double, slack 2^-18 of terms). */
 PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
 	int e, inside = 1;
 	for (e = 0; e < s->edges; ++e) {
@@ -3635,7 +3644,7 @@ PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t 
 	return occluder ? pvs__dmax(z, s->zclamp) : pvs__dmin(z, s->zclamp);
 }
 
-/* Pixel loops by 4 x 4 tile blocks, then tiles, skipping those as near as the polygon or outside an edge. */
+/* Pixel loops by 4 x 4 tile blocks, then tiles, skipping those as near as polygon or outside an edge. */
 PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder,
 								 int simd, float zbound) {
 	uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, bx, by;
@@ -3703,7 +3712,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 		}
 }
 
-/* Fills the pixel rectangle with `d` where nearer (degenerate occludees). */
+/* Fills pixel rectangle with `d` where nearer (degenerate occludees). */
 PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *tile_min, int32_t i0, int32_t i1,
 								  int32_t j0, int32_t j1, float d) {
 	int32_t i, j;
@@ -3720,8 +3729,8 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
 }
 
 /* Depth plane of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi, oy + fj),
-   fi <= iw, fj <= jh, from its largest fan triangle: p = za, zb, zk (z = zk + za fi + zb fj) and the setup error bound;
-   0 if no fan triangle has an area. */
+   fi <= iw, fj <= jh, from its largest fan triangle: p = za, zb, zk (z = zk + za fi + zb fj) and setup error bound; 0
+   if no fan triangle has an area. */
 PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double *z, int n, double ox, double oy,
 								  double iw, double jh, double span, double mag, double zmag, double perr, double zerr,
 								  double p[4]) {
@@ -3744,8 +3753,8 @@ PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double
 	return 1;
 }
 
-/* Depth plane bound over those pixels (pvs__raster_plane): (zk + zb fj) + za fi in float is at most (occluder) or
-   at least (occludee) the plane's extreme over the pixel. None: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
+/* Depth plane bound over those pixels (pvs__raster_plane): (zk + zb fj) + za fi in float is at most (occluder) or at
+   least (occludee) plane's extreme over pixel. None: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
 PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy,
 									double iw, double jh, double span, double mag, double zmag, double perr,
 									double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
@@ -3788,7 +3797,7 @@ PVS__STATIC int pvs__poly_extent(const double *x, const double *y, const double 
 	return 1;
 }
 
-/* 0 if the polygon (extent e, span its width plus height) is beyond useful precision or degenerate. */
+/* 0 if polygon (extent e, span its width plus height) is beyond useful precision or degenerate. */
 PVS__STATIC int pvs__poly_usable(const pvs__polyext *e, double span) {
 	return e->mag < PVS__RASTER_BIG * PVS__RASTER_BIG && pvs__dabs(e->area2) > 1e-9 * span * span &&
 		pvs__dabs(e->area2) > 1e-300;
@@ -3818,12 +3827,12 @@ PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n,
 	if (lo + err >= 0.0) return 0;
 	if (hi + err < 0.0) return -1;
 	k += err;
-	if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return -1; /* impossible past the trivial cases */
+	if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return -1; /* impossible past trivial cases */
 	e[0] = a; e[1] = b; e[2] = k;
 	return 1;
 }
 
-/* Rasterizes a convex polygon (pixels x, y; affine depth z) into a W x H buffer, keeping the nearer depth. */
+/* Rasterizes a convex polygon (pixels x, y; affine depth z) into a W x H buffer, keeping nearer depth. */
 PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *tile_min, const double *x, const double *y,
 								  const double *z, int n, int occluder, int simd, double perr, double zerr) {
 	pvs__rsetup s;
@@ -3834,7 +3843,7 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 	dx = PVS__RASTER_ERR_D * (e.mag + 1.0) + perr; /* perr, zerr: vertices' projection error */
 	zlo = e.zmin - PVS__RASTER_ERR_D * e.zmag - zerr;
 	zhi = e.zmax + PVS__RASTER_ERR_D * e.zmag + zerr;
-	/* inner pixels (inside the box) or outer (touching) */
+	/* inner pixels (inside box) or outer (touching) */
 	if (occluder) {
 		s.i0 = pvs__clampi(ceil(e.xmin + dx), 0, (int32_t)W);
 		s.i1 = pvs__clampi(floor(e.xmax - dx) - 1.0, -1, (int32_t)W - 1);
@@ -3881,8 +3890,8 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 }
 
 /* ---- occluder buffer: Masked Occlusion Culling (Hasselgren, Andersson and Akenine-Moller 2016), inner coverage. A
-   polygon's inner pixels in a 32 x 4 tile row are one run of columns from the edges' intercepts (shifted masks); the
-   working layer merges over the base by the paper's heuristic. ---- */
+   polygon's inner pixels in a 32 x 4 tile row are one run of columns from edges' intercepts (shifted masks); working
+   layer merges over base by paper's heuristic. ---- */
 
 #define PVS__TW_SHIFT 5
 #define PVS__TH_SHIFT 2
@@ -3893,27 +3902,27 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 #define PVS__U_2_44 5.684341886080802e-14
 #define PVS__U_2_48 3.552713678800501e-15
 
-/* Occluder polygon for the tile loops (i, j relative to (i0, j0)): pixel i of row j is inside edge e if i >=
-   X_e(j) (left) or i <= X_e(j) (right); X_e(j) = xi + s j with margins; m: its float error bound. */
+/* Occluder polygon for tile loops (i, j relative to (i0, j0)): pixel i of row j is inside edge e if i >= X_e(j) (left)
+   or i <= X_e(j) (right); X_e(j) = xi + s j with margins; m: its float error bound. */
 typedef struct pvs__tpoly {
 	int32_t i0, i1, j0, j1; /* inner pixel range (absolute) */
-	int32_t jlo, jhi; /* rows (relative) the near-horizontal edges leave */
-	int nl, ne; /* edges [0, nl) bound from the left, [nl, ne) from the right */
+	int32_t jlo, jhi; /* rows (relative) near-horizontal edges leave */
+	int nl, ne; /* edges [0, nl) bound from left, [nl, ne) from right */
 	double xi[PVS__RASTER_MAXV], s[PVS__RASTER_MAXV], cl[PVS__RASTER_MAXV];
 	float sf[PVS__RASTER_MAXV], m[PVS__RASTER_MAXV];
-	float zk, za, zb, zm, zlo; /* plane at (i0, j0) less float margin zm, clamped to the farthest vertex zlo */
+	float zk, za, zb, zm, zlo; /* plane at (i0, j0) less float margin zm, clamped to farthest vertex zlo */
 } pvs__tpoly;
 
 /* What a prefiltered occluder may change: tiles [tx0, tx1] x [ty0, ty1], depths up to zmax (its nearest vertex's;
-   farther: conservative). So drawing it where the prefilter finds it hidden is a no-op: bands equal a whole frame. */
+   farther: conservative). So drawing it where prefilter finds it hidden is a no-op: bands equal a whole frame. */
 typedef struct pvs__tlim {
 	int32_t tx0, tx1, ty0, ty1;
 	float zmax;
 	int cull;
 } pvs__tlim;
 
-/* Columns L[d] .. R[d] (absolute; L > R: empty) of rows jrow + d inside every edge, from xr = X(jrow); reference for
-   the SIMD versions. */
+/* Columns L[d] .. R[d] (absolute; L > R: empty) of rows jrow + d inside every edge, from xr = X(jrow); SIMD's
+   reference. */
 PVS__STATIC void pvs__tile_rows_scalar(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
 	const float fw = (float)(t->i1 - t->i0), fw1 = fw + 1.0f;
 	int d, e;
@@ -3942,7 +3951,7 @@ PVS__STATIC void pvs__tile_rows_scalar(const pvs__tpoly *t, int32_t jrow, const 
 	}
 }
 
-/* Mask bits of columns L .. R in the tile row from column x0 (bit k: column x0 + k). */
+/* Mask bits of columns L .. R in tile row from column x0 (bit k: column x0 + k). */
 PVS__STATIC uint32_t pvs__tile_bits(int32_t L, int32_t R, int32_t x0) {
 	int32_t lo = L - x0, hi = R - x0 + 1;
 	uint32_t a, b;
@@ -3975,7 +3984,7 @@ PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const fl
 	pvs__i4_store(L, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(1), l), pvs__i4_set1(t->i0)));
 	pvs__i4_store(R, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(0), r), pvs__i4_set1(t->i0)));
 }
-/* The four rows' bits of the tile at column x0; 0 if all are empty. */
+/* The four rows' bits of tile at column x0; 0 if all are empty. */
 PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
 	pvs__i4 vx = pvs__i4_set1(x0), m;
 	m = pvs__i4_andn(pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_load(L), vx)),
@@ -3985,10 +3994,9 @@ PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t 
 }
 #endif
 
-/* Merges coverage T (as near as zt > z0) into a tile, Hasselgren et al.'s two-layer update: T covering the tile
-   becomes the base; else the layer takes the union at the farther depth, or T replaces it if T leads it by more than
-   it leads the base; a full layer becomes the base. Every pixel stays a lower bound of its nearest occluder. `pad`:
-   bits off the map. */
+/* Merges coverage T (as near as zt > z0) into a tile, Hasselgren et al.'s two-layer update: T covering tile becomes
+   base; else layer takes union at farther depth, or T if T leads it by more than it leads base; a full layer becomes
+   base. Every pixel stays a lower bound of its nearest occluder. `pad`: bits off map. */
 PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, const uint32_t *pad) {
 	uint32_t full = ~0u, any = 0, m;
 	int k;
@@ -4046,7 +4054,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, con
 			pvs__tile_rows_scalar(t, jrow, xr, L, R);
 		for (d = 0; d < PVS__TH; ++d) {
 			if (L[d] > R[d]) {
-				if (jr + d < (int32_t)r->height) fr = -2; /* empty row in the map: no tile is full */
+				if (jr + d < (int32_t)r->height) fr = -2; /* empty row in map: no tile is full */
 				continue;
 			}
 			lmin = L[d] < lmin ? L[d] : lmin;
@@ -4076,7 +4084,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, con
 			if (lim && zt > lim->zmax) zt = lim->zmax;
 			if (!(zt > tl->z0)) continue; /* not nearer than base */
 			if (x0 >= fl && (x0 + 31 < (int32_t)r->width ? x0 + 31 : (int32_t)r->width - 1) <= fr) {
-				cov[0] = cov[1] = cov[2] = cov[3] = ~0u; /* covers the tile: tile_merge's first case */
+				cov[0] = cov[1] = cov[2] = cov[3] = ~0u; /* covers tile: tile_merge's first case */
 			} else
 #if defined(PVS__LANES)
 			if (simd) {
@@ -4127,7 +4135,7 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 				++nr;
 			}
 		} else {
-			/* near-horizontal: rows where every column of the range passes */
+			/* near-horizontal: rows where every column of range passes */
 			double wk = k + pvs__dmin(0.0, a * iw), tq = -wk / b,
 				   pad = PVS__U_2_44 * (pvs__dabs(k) + pvs__dabs(a) * iw + 1.0);
 			if (b > 0.0) {
@@ -4151,8 +4159,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 	return 1;
 }
 
-/* Depth plane over t's range (as pvs__raster_zplane) less its setup error, zm the loops' float margin, zlo the
-   clamp; unusable: zk = -FLT_MAX. */
+/* Depth plane over t's range (as pvs__raster_zplane) less its setup error, zm loops' float margin, zlo clamp; unusable:
+   zk = -FLT_MAX. */
 PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
 								  double mag, double zmag, double perr, double zerr, double zlo) {
 	double iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), p[4];
@@ -4193,7 +4201,7 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
 	pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR), lim);
 }
 
-/* Occludees go to the per-pixel map, cleared on first use (`mixed`). */
+/* Occludees go to per-pixel map, cleared on first use (`mixed`). */
 PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
 	size_t i, n = (size_t)r->width * r->height;
 	if (r->mixed) return;
@@ -4202,7 +4210,7 @@ PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
 	r->mixed = 1;
 }
 
-/* Per-pixel map from the tiles: overwritten, or the nearer where occludees were drawn. */
+/* Per-pixel map from tiles: overwritten, or the nearer where occludees were drawn. */
 PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
 	uint32_t ty, tx, d, k;
 	if (!r->tiled) {
@@ -4235,7 +4243,7 @@ PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) 
 	double pm = pvs__dmax(pvs__dabs(p[0]), pvs__dmax(pvs__dabs(p[1]), pvs__dabs(p[2])));
 	for (r = 0; r < 4; ++r)
 		v.c[r] = m[4 * r] * (double)p[0] + m[4 * r + 1] * (double)p[1] + m[4 * r + 2] * (double)p[2] + m[4 * r + 3];
-	/* 2^-50 of the terms' size (four products summed in double: 2^-51) */
+	/* 2^-50 of terms' size (four products summed in double: 2^-51) */
 	v.e = 8.881784197001252e-16 * (rs->mabs[0] * pm + rs->mabs[1]);
 	return v;
 }
@@ -4252,7 +4260,7 @@ PVS__STATIC void pvs__raster_project(const pvs__cv *v, double hw, double hh, dou
 }
 
 /* Sutherland-Hodgman against w - z >= 0 (near) or w - tiny >= 0; lout gets lin's labels (edge i: vertex i to i + 1;
-   NULL: none), PVS__MESH_CLIP along the plane. Cutting from the inside vertex makes shared edges' cuts identical. */
+   NULL: none), PVS__MESH_CLIP along plane. Cutting from inside vertex makes shared edges' cuts identical. */
 #define PVS__MESH_CLIP 3
 PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int plane, const uint8_t *lin, uint8_t *lout) {
 	int i, m = 0;
@@ -4329,21 +4337,28 @@ PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
 	return 0;
 }
 
-PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder,
-								const pvs__tlim *lim) {
+PVS__STATIC int pvs__tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder,
+						 const pvs__tlim *lim) {
 	pvs__cv v[3];
 	int k;
 	for (k = 0; k < 3; ++k)
-		if (!pvs__finite(p0[k]) || !pvs__finite(p1[k]) || !pvs__finite(p2[k])) return;
+		if (!pvs__finite(p0[k]) || !pvs__finite(p1[k]) || !pvs__finite(p2[k])) return 0;
 	v[0] = pvs__raster_transform(r, p0);
 	v[1] = pvs__raster_transform(r, p1);
 	v[2] = pvs__raster_transform(r, p2);
-	if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
-	if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
+	if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return 0;
+	if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return 0;
 	k = lim ? lim->cull : r->cull;
-	if (occluder && k && pvs__mesh_facing(v) == k) return; /* back-face culling */
+	if (occluder && k && pvs__mesh_facing(v) == k) return 0; /* back-face culling */
 	pvs__raster_clipped(r, v, 3, occluder, lim);
 	if (r->pyramid_valid) r->pyramid_valid = 0; /* bands: pvs_raster_bin set 0 */
+	return 0;
+}
+PVS__TWIN(int, pvs__tri, (pvs_raster *r, const float *a, const float *b, const float *c, int o, const pvs__tlim *lim),
+		  (r, a, b, c, o, lim))
+PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder,
+								const pvs__tlim *lim) {
+	PVS__ISA(r, pvs__tri, (r, p0, p1, p2, occluder, lim));
 }
 
 /* ---- occluder prefilter: four triangles at a time in float (SIMD lanes, as in Masked Occlusion Culling), dropping
@@ -4488,6 +4503,8 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 	pvs__f4_store(zmax, zm);
 	return (all ^ 15u) & ~(tst & ~*test & 15u);
 }
+PVS__TWIN(unsigned, pvs__pf_simd, (const pvs_raster *r, const float *const v[4][3], unsigned *t, int32_t b[4][4],
+								   float *z, int c), (r, v, t, b, z, c))
 #endif
 
 PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, uint32_t ty0, uint32_t ty1, float zmax) {
@@ -4558,9 +4575,9 @@ typedef struct pvs__qtri {
 #define PVS__QFIRST(n, p) ((uint32_t)((uint64_t)(n) * (p) / PVS_RASTER_PARTS))
 #define PVS__QBAND(r, b) ((int32_t)((b) * (r)->bh / PVS_RASTER_PARTS) << PVS__BLOCK_SHIFT) /* 1st tile row */
 
-/* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene triangles tris) through the prefilter, four at
-   a time; part < PVS_RASTER_PARTS: kept for the bands, else drawn unless hidden; PVS_RASTER_PARTS + 1: a mesh piece
-   too, until full. Returns where it stopped. */
+/* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene triangles tris) through prefilter, four at a time;
+   part < PVS_RASTER_PARTS: kept for bands, else drawn unless hidden; PVS_RASTER_PARTS + 1: a mesh piece too, until
+   full. Returns where it stopped. */
 PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
 										   uint32_t stride, const uint32_t *indices, const pvs__occsel *tris,
 										   uint32_t t0, uint32_t t1, int cull, uint32_t draw, uint32_t part) {
@@ -4587,7 +4604,7 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 			for (k = 0; k < 3; ++k) v[l][k] = v[0][k];
 #if defined(PVS__LANES_DIV)
 		if (!(r->flags & PVS_RASTER_SCALAR))
-			keep = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax, cull);
+			keep = PVS__ISA(r, pvs__pf_simd, (r, (const float *const(*)[3])v, &test, box, zmax, cull));
 		else
 #endif
 			keep = pvs__pf_scalar(r, (const float *const(*)[3])v, &test, box, zmax, 4, cull);
@@ -4747,7 +4764,7 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
 	}
 	X = (t - c) / a;
 	if (a > 0.0) { /* keep i >= X */
-		i = X > (double)*hi ? *hi + 1 : X > (double)*lo ? (int32_t)X : *lo; /* the loops settle it */
+		i = X > (double)*hi ? *hi + 1 : X > (double)*lo ? (int32_t)X : *lo; /* loops settle it */
 		for (s = 0; s < 3 && i > *lo && a * (double)(i - 1) + c >= t; ++s) --i;
 		for (s = 0; s < 3 && i <= *hi && !(a * (double)i + c >= t); ++s) ++i;
 		if (outer) {
@@ -4769,8 +4786,8 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
 	}
 }
 
-/* Polygon t on row j of band jb, along its edges (between the columns its internal edges may meet): over pixels an
-   edge may meet, its least depth bound; flag 1: surely meets pixel, 2: a boundary edge may. */
+/* Polygon t on row j of band jb, along its edges (between columns its internal edges may meet): over pixels an edge may
+   meet, its least depth bound; flag 1: surely meets pixel, 2: a boundary edge may. */
 PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int32_t jb) {
 	const uint32_t W = r->width;
 	float *zm = r->mzmin + (size_t)(j - jb) * W;
@@ -4821,7 +4838,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
 }
 
 /* Writes band b's claimed pixels (flag 1 and a bound) to depth map or, tiled, per tile as a mask at the least claimed
-   depth; resets the scratch. */
+   depth; resets scratch. */
 PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b) {
 	const uint32_t W = r->width;
 	int32_t i, d, tx;
@@ -5049,7 +5066,7 @@ PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const u
 	}
 	while (t < count) {
 		r->mcn = 0;
-		if (r->tiled) /* as pvs__raster_tris, collecting the piece */
+		if (r->tiled) /* as pvs__raster_tris, collecting piece */
 			t = pvs__raster_occluders(r, pos, vc, r->vstride, indices, tris, t, count, r->cull, 0,
 									  PVS_RASTER_PARTS + 1);
 		for (; !r->tiled && t < count && r->mcn < r->mesh_cap; ++t) r->morder[r->mcn++] = t;
@@ -5141,6 +5158,19 @@ PVS_API pvs_result pvs_raster_set_clip_matrix(pvs_raster *r, const float m[16], 
 	for (k = 8; depth && k < 12; ++k) /* w - z, or (w - z) / 2 */
 		t[k] = depth == PVS_CLIP_DEPTH_ZERO_ONE ? t[k + 4] - t[k] : 0.5f * (t[k + 4] - t[k]);
 	return pvs_raster_set_matrix(r, t);
+}
+
+PVS_API const char *pvs_raster_path(const pvs_raster *r) {
+	if (r->flags & PVS_RASTER_SCALAR) return "scalar";
+#if defined(PVS__SSE2) && defined(__AVX2__)
+	return "avx2";
+#elif defined(PVS__SSE2)
+	return r->avx2 ? "avx2" : "sse2";
+#elif defined(PVS__NEON)
+	return "neon";
+#else
+	return "scalar";
+#endif
 }
 
 PVS_API void pvs_raster_clear(pvs_raster *r) {
@@ -5254,10 +5284,9 @@ PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t
 
 /* ---- depth pyramid (Durand 2000 §2.4; Greene et al. 1993), queried top-down until a level decides (§6.1) ---- */
 
-/* One pyramid level (kernel of all pyramids in pvs.h): texel (x, y) gets min of smin (into dmin; both may be NULL)
-   and max of smax (into dmax) over texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of pw x ph level
-   below, clamped; mx, my = 1 halve that axis. `simd` (SSE2, both halved) pairs differently: same results but for +0/-0
-   ties (or NaN). */
+/* One pyramid level (kernel of all pyramids): texel (x, y) gets min of smin (into dmin; both may be NULL) and max of
+   smax (into dmax) over texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of pw x ph level below, clamped;
+   mx, my = 1 halve that axis. `simd` (SSE2, both halved) pairs differently: same but for +0/-0 ties (or NaN). */
 PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32_t pw, uint32_t ph, float *dmin,
 									float *dmax, uint32_t w, uint32_t h, uint32_t mx, uint32_t my, int simd) {
 	uint32_t x, y;
@@ -5422,11 +5451,10 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
 	return 0;
 }
 
-/* ---- float box tests: eight corners in two SIMD registers, with error bounds. A clip coordinate c_r = m_r . (p, 1)
-   errs by at most 4.01 u S_r (u = 2^-24, S_r = (|m_r0| + |m_r1| + |m_r2|) max |p| + |m_r3|); E_r = 8 u S_r also covers
-   the compared differences. A corner with w > 2 E_w has true w >= 3/4 of the computed one, so x/w errs by at most 2/3
-   (E_x + |x/w| E_w) / w plus the division; per-box maxima widen the rectangle and raise the depth. S_r > 1e30: double
-   path. ---- */
+/* ---- float box tests: eight corners in two SIMD registers, with error bounds. Clip coordinate c_r = m_r . (p, 1) errs
+   by at most 4.01 u S_r (u = 2^-24, S_r = (|m_r0| + |m_r1| + |m_r2|) max |p| + |m_r3|); E_r = 8 u S_r also covers
+   compared differences. A corner with w > 2 E_w has true w >= 3/4 of computed one, so x/w errs by at most 2/3 (E_x +
+   |x/w| E_w) / w plus division; per-box maxima widen rectangle, raise depth. S_r > 1e30: double path. ---- */
 
 /* From corners, all in front: screen extremes, nearest depth, largest 1 / w, |x / w|, |y / w|, |z / w|. */
 typedef struct pvs__boxf {
@@ -5542,7 +5570,7 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 }
 #endif
 
-/* Double to a float >= it, no libm: margins (v >= 0); any finite v (rounded down: up one step; |f| 2^-23 plus the least
+/* Double to a float >= it, no libm: margins (v >= 0); any finite v (rounded down: up one step; |f| 2^-23 plus least
    subnormal covers gap). */
 PVS__STATIC float pvs__f_up_pos(double v) { return (float)(v * (1.0 + 4.76837158203125e-07) + 1e-37); }
 PVS__STATIC float pvs__f_up_fast(double v) {
@@ -5674,13 +5702,16 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 	return 2;
 }
 
-PVS_API int pvs_raster_classify_box(pvs_raster *r, const pvs_box *b) {
+PVS__STATIC int pvs__classify(pvs_raster *r, const pvs_box *b) {
 	int32_t rect[4] = {0, 0, 0, 0};
 	float d = 0.0f;
 	int k = pvs__raster_box(r, b, rect, &d);
 	if (k != 2) return k ? PVS_BOX_VISIBLE : PVS_BOX_VIEW_CULLED;
 	return pvs_raster_test_rect(r, rect[0], rect[1], rect[2], rect[3], d) ? PVS_BOX_VISIBLE : PVS_BOX_OCCLUDED;
 }
+PVS__TWIN(int, pvs__classify, (pvs_raster *r, const pvs_box *b), (r, b))
+
+PVS_API int pvs_raster_classify_box(pvs_raster *r, const pvs_box *b) { return PVS__ISA(r, pvs__classify, (r, b)); }
 
 PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
 	return pvs_raster_classify_box(r, b) == PVS_BOX_VISIBLE;
@@ -5942,6 +5973,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 	r->width = desc->width;
 	r->height = desc->height;
 	r->flags = desc->flags;
+	r->avx2 = !(r->flags & (PVS_RASTER_SCALAR | PVS_RASTER_SSE2)) && PVS__CPU_AVX2();
 	for (l = 0; l < 16; ++l) {
 		r->m[l] = r->mf[l] = (l % 5 == 0) ? 1.0f : 0.0f;
 		r->mb[l][0] = r->mb[l][1] = r->mb[l][2] = r->mb[l][3] = r->mf[l];
@@ -6103,7 +6135,7 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
 	return PVS_OK;
 }
 
-/* p->occluder_distance, or (p NULL or 0) a tenth of the scene's longest side: culling in any unit */
+/* p->occluder_distance, or (p NULL or 0) a tenth of scene's longest side: culling in any unit */
 PVS__STATIC float pvs__cull_distance(const pvs_scene *s, const pvs_cull_params *p) {
 	const pvs_box *b = &s->bounds;
 	double e = pvs__dmax(b->max[0] - b->min[0], pvs__dmax(b->max[1] - b->min[1], b->max[2] - b->min[2]));
@@ -6307,10 +6339,10 @@ PVS__STATIC double pvs__cm_height(const double pl[3], double ou, double ov, doub
 	return pl[2] + pl[0] * (x - ou) + pl[1] * (y - ov);
 }
 
-/* Seam at v between casting facades p-v, v-q: sampling correction shrinks both shadows, uncovering cells along the
-   shadow ray through v (Wonka 1999 §5). The wedge between rays through a' on p-v and b' on v-q (~2 cells from v),
-   beyond a'-v-b', lies in union, at height A on A's side of ray, B on B's. A - B changes sign across it: A is a lower
-   bound if A >= B on A's side (ridge), else the least corner value of concave min(A, B). */
+/* Seam at v between casting facades p-v, v-q: sampling correction shrinks both shadows, uncovering cells along shadow
+   ray through v (Wonka 1999 §5). Wedge between rays through a' on p-v and b' on v-q (~2 cells from v), beyond a'-v-b',
+   lies in union, at height A on A's side of ray, B on B's. A - B changes sign across it: A is a lower bound if A >= B
+   on A's side (ridge), else least corner value of concave min(A, B). */
 PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf,
 							  const float *qf, double top, int simd) {
 	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
@@ -6525,16 +6557,16 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 
 // >>otree
 /* ==== otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7) ==== */
-/* One BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through R^3's origin, images p* of primal
-   points p (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 if p is left of l). Leaves: out (unblocked) or in
-   (blocked by payload: 2D nearest occluder; 2.5D those that may be seen over). Line sets: convex polygons of unit
-   vectors (vertices: extremal lines); each edge keeps point whose plane carries it, marked if that plane is on path
-   (§4.10.1): an out-leaf becomes e-OT of unmarked edges (§3.3.3).
+/* One BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through R^3's origin, images p* of points p
+   (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 if p left of l). Leaves: out (unblocked) or in (blocked by
+   payload: 2D nearest occluder; 2.5D those maybe seen over). Line sets: convex polygons of unit vectors (extremal
+   lines); each edge keeps point whose plane carries it, marked if on path (§4.10.1): out-leaf becomes e-OT of unmarked
+   edges (§3.3.3).
 
-   Conservative rounding: regions are bounded by exact planes through stored points (an in-leaf never claims lines
-   outside its blocker); insertion's tolerance only drops blocked slivers; read-only tests split with slack (both sides
-   see more); ambiguous depth orders count as visible. Double geometry, cell-centred. Users: pvs_visibility_2d (exact,
-   ch. 6), pvs_visibility_25d (c-LSS, ch. 7), OTREE bake; pvs_otree_cull (ch. 4, below) has its own 3D kernel. */
+   Conservative rounding: exact planes through stored points bound regions (in-leaf claims no line outside its blocker);
+   insertion's tolerance drops only blocked slivers; read-only tests split with slack (both sides see more); ambiguous
+   depth orders count as visible. Double geometry, cell-centred. Users: pvs_visibility_2d (exact, ch. 6),
+   pvs_visibility_25d (c-LSS, ch. 7), OTREE bake; pvs_otree_cull (ch. 4) has own 3D kernel. */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT25_WITNESSES 16
@@ -6636,7 +6668,7 @@ PVS__STATIC void pvs__ot_copy(pvs__otpoly *d, const pvs__otpoly *s) {
 	}
 }
 
-/* Room for `need` work items (all four arrays; new items, new slots). */
+/* Room for `need` items in all four arrays; new slots numbered. */
 PVS__STATIC int pvs__ot_reserve(pvs__otree *t, size_t need) {
 	size_t c1 = t->stack_cap, c2 = t->stack_cap, c3 = t->stack_cap, c4 = t->stack_cap, i;
 	if (need <= t->stack_cap) return 1;
@@ -6707,8 +6739,8 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 	n[2] = f;
 }
 
-/* Clips `in` to n . l >= -slack (0: exact half), n: unit normal of p's plane; new edges lie in it, marked `mark`.
-   Returns vertex count (0 empty, -1 too many). */
+/* Clips `in` to n . l >= -slack (0: exact half), n unit normal of p's plane; new edges in it, marked `mark`. Returns
+   vertex count (0 empty, -1 too many). */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
 							   pvs__otpoly *out) {
 	double d[PVS__OT_MAXV + 1];
@@ -6748,8 +6780,8 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	out->n = m;
 	return m;
 }
-/* 2.5D witness lines: read-only test reaching an out-leaf keeps a line inside its polygon (normalised vertex sum);
-   out-leaves only become in-leaves: witness later found in an in-leaf is dropped. */
+/* 2.5D witness lines: read-only test reaching out-leaf keeps a line in its polygon (normalised vertex sum); out-leaves
+   only become in-leaves: witness later in an in-leaf is dropped. */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	double w[3] = {0, 0, 0}, len;
 	int i;
@@ -6761,8 +6793,8 @@ PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	t->wit[0][0] = w[0] / len; t->wit[0][1] = w[1] / len; t->wit[0][2] = w[2] / len;
 }
 
-/* 2.5D: 1 if nd's subtree hides every point no nearer than `near` to cell, no higher than h (pvs__ot25_bound); near < 0
-   (2D): 0. Macro skips call where neither bound applies; evaluates nd twice. */
+/* 2.5D: 1 if nd's subtree hides all points >= `near` from cell, <= h high (pvs__ot25_bound); near < 0 (2D): 0. Skips
+   call where neither bound applies; evaluates nd twice. */
 #define PVS__OT25_HIDDEN(t, nd, near, h) \
 	(((near) > (nd)->mr || (near) > (nd)->ml) && pvs__ot25_hidden_below_at(t, nd, near, h))
 PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
@@ -6780,8 +6812,8 @@ PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode
 	return 0;
 }
 
-/* Insertion at inner node (§3.3.3) on top item, in place: edges on node's plane marked (§4.10.1), polygon goes to its
-   child or is split; child whose subtree hides occluder (2.5D, near >= 0) gets nothing. 2.5D descends one-sided nodes
+/* Insertion at inner node (§3.3.3) on top item, in place: edges on node's plane marked (§4.10.1), polygon goes to a
+   child or splits; child whose subtree hides occluder (2.5D, near >= 0) gets nothing. 2.5D descends one-sided nodes
    here, to leaf or hidden subtree. */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q = PVS__OT_ITEM(t, top);
@@ -6815,11 +6847,11 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		if (h0 && h1) { t->stack_count = top; return; }
 		if (!pvs__ot_reserve(t, top + 3)) { t->stack_count = top; return; }
 		q = PVS__OT_ITEM(t, top);
-		/* positive part unless c1 hides, negative (normal negated: each distance exactly so) unless c0 hides */
+		/* positive part unless c1 hides, negative (normal negated: distances exact) unless c0 hides */
 		for (i = 0; i < 3; ++i) nf[i] = -nd->n[i];
 		na = h1 ? 0 : pvs__ot_clip_n(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
 		nb = h0 ? 0 : pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 2));
-		/* items top..: c1's part, then c0's, as two pushes would; unused slots above (slots stay a permutation) */
+		/* items top..: c1's part, then c0's, as two pushes; unused slots above (still a permutation) */
 		s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
 		if (na >= 3) { t->stack_slot[m] = s1; t->stack_node[m] = c1; t->stack_pend[m] = PVS__OT_NONE; ++m; }
 		if (nb >= 3) { t->stack_slot[m] = s2; t->stack_node[m] = c0; t->stack_pend[m] = PVS__OT_NONE; ++m; }
@@ -6830,9 +6862,9 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 	}
 }
 
-/* Read-only test at inner node (§3.3.4) on top item, in place: polygon within 1e-12 of plane on one side (an edge on
-   it) goes there, else each side gets its part widened by 1e-12. 1 if surely visible (2.5D: straddled child is an
-   out-leaf) or OOM (caller counts it visible). */
+/* Read-only test at inner node (§3.3.4) on top item, in place: polygon within 1e-12 of plane on one side (edge on it)
+   goes there, else each side gets its part widened by 1e-12. 1 if surely visible (2.5D: straddled child is out-leaf) or
+   OOM (caller counts visible). */
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q;
 	const pvs__otnode *nd;
@@ -6863,8 +6895,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 		t->stack_node[top] = c;
 		if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return 0;
 	}
-	/* 2.5D (no sliver rule): both parts hold a vertex strictly off plane: an out-leaf child answers at once; its part's
-	   line becomes a witness (pvs__ot25_witnessed) */
+	/* 2.5D (no sliver rule): both parts hold a vertex strictly off plane: out-leaf child answers at once; its part's
+	   line becomes witness (pvs__ot25_witnessed) */
 	if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
 		int out1 = t->nodes[c1].kind == PVS__OT_OUT;
 		for (i = 0; i < 3; ++i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
@@ -6921,7 +6953,7 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 
 /* Blocker polygon B(S, O) (§6.4.3): lines through S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, each edge in
    plane of its lines' shared point. Coincident vertices (O's line through end of S, O touching S) merge into Fig. 6.5's
-   triangle. 0 if degenerate (no line set of positive measure). */
+   triangle. 0 if degenerate (zero measure). */
 PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2],
 								pvs__otpoly *q) {
 	const double *from[4], *to[4], *pt[4];
@@ -6941,7 +6973,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 			double *w = q->v[n - 1];
 			double dd = fabs(w[0] - v[i][0]) + fabs(w[1] - v[i][1]) + fabs(w[2] - v[i][2]);
 			if (dd <= 1e-12) {
-				/* same line as previous vertex: keep edge plane through point on both neighbours */
+				/* same line as previous vertex: edge plane through point on both neighbours */
 				continue;
 			}
 		}
@@ -6957,7 +6989,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 	}
 	q->n = n;
 	if (n < 3) return 0;
-	/* each edge's plane: candidate point on both end lines */
+	/* edge planes: candidate point on both end lines */
 	{
 		const double *cand[4];
 		double cn[4][3], en[PVS__OT_MAXV][3], cen[3] = {0, 0, 0}, clen;
@@ -7023,7 +7055,7 @@ PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
 	return 1;
 }
 
-/* Parameter on segment s (0, 1 at its ends) where line l crosses its line; 0 if parallel. */
+/* Parameter on segment s (0, 1 at ends) where line l crosses its line; 0 if parallel. */
 PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
 	double dx = s[2] - s[0], dy = s[3] - s[1];
 	double a = l[0] * s[0] + l[1] * s[1] + l[2], b = l[0] * dx + l[1] * dy;
@@ -7043,15 +7075,15 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 	return 1;
 }
 
-/* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k is clearly in front of j, and
-   clearly behind. Ties (lines through X or a shared end) count as neither, as do vertex lines missing either segment
-   (outside leaf by rounding sliver: q clipped with slack). */
+/* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k is clearly in front of j, clearly
+   behind. Neither: ties (lines through X or shared end), vertex lines missing a segment (outside leaf by rounding
+   sliver: q clipped with slack). */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk,
 							   int *front, int *behind) {
 	int i, have_x;
 	double x[2], mj[4], mk[4];
 	*front = *behind = 0;
-	/* after split at crossing X, lines through X tie, whatever rounding says */
+	/* after split at crossing X, lines through X tie whatever rounding says */
 	have_x = q->xsplit && pvs__ot_cross(sj, sk, x);
 	pvs__ot_hit_line(sj, mj);
 	pvs__ot_hit_line(sk, mk);
@@ -7066,7 +7098,7 @@ PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const 
 	}
 }
 
-/* Splits leaf `node` by p's plane; side `sign * side(p) > 0` continues; returns it. */
+/* Splits leaf `node` by p's plane; side `sign * side(p) > 0` continues, returned. */
 PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const double p[2], double sign) {
 	uint32_t neg = pvs__ot_new_node(t), pos = pvs__ot_new_node(t);
 	pvs__otnode old;
@@ -7086,7 +7118,7 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 }
 
 /* Turns leaf `node` into chain of q's unmarked edges (e-OT, §3.3.3): split by each edge's plane, q's side continuing,
-   other sides keeping leaf's kind, payload. Returns q's node (old payload kept), PVS__OT_NONE if OOM. */
+   others keeping leaf's kind, payload. Returns q's node (old payload kept), PVS__OT_NONE if OOM. */
 PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
 	double cen[3] = {0, 0, 0};
 	int i, k;
@@ -7113,7 +7145,7 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
 
 /* ---- 2D from-region (ch. 6): insertion with §6.5.1's four depth cases ---- */
 
-/* §6.5.1 case 3: q, split at crossing X = x (marked so), pushed at `node` as two halves. 0: OOM. */
+/* §6.5.1 case 3: q split at crossing X = x (marked so), pushed at `node` as two halves. 0: OOM. */
 PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, const double x[2]) {
 	pvs__otpoly part;
 	double n[3];
@@ -7126,7 +7158,7 @@ PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, co
 	return ok;
 }
 
-/* Inserts occluder k's blocker polygon q (§3.3.3 with 2D in-leaf cases). */
+/* Inserts occluder k's blocker polygon (§3.3.3 with 2D in-leaf cases). */
 PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
@@ -7135,7 +7167,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 		pvs__otpoly q;
 		uint32_t node = t->stack_node[t->stack_count - 1];
 		pvs__otnode *nd = t->nodes + node;
-		/* §6.5.5: every line here meets a stored occluder nearer to any cell point than k */
+		/* §6.5.5: every line here meets a stored occluder nearer any cell point than k */
 		if (near > nd->mvd) { --t->stack_count; continue; }
 		if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, -1.0, 0.0); continue; }
 		pvs__ot_pop(t, &q);
@@ -7167,7 +7199,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 }
 
 /* Thickness: least over edges of largest vertex distance from edge's plane. Insertion leaves ~1e-12 slivers where it
-   rounded; line sets thinner than PVS__OT_SLIVER (radians at unit distance) are below method's resolution. */
+   rounded; thinner than PVS__OT_SLIVER (radians at unit distance) is below method's resolution. */
 #define PVS__OT_SLIVER 1e-10
 PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 	double th = DBL_MAX;
@@ -7210,7 +7242,7 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 }
 
 /* Blockers of source edge a -> b (lines leaving to its right) and clipped segment o: one, or two if o's line crosses
-   edge at x (Fig. 6.5). Returns how many; *degenerate: non-empty line set was unrepresentable. */
+   edge at x (Fig. 6.5). Returns count; *degenerate: non-empty line set unrepresentable. */
 PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
 								 pvs__otpoly out[2], int *degenerate) {
 	double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
@@ -7246,7 +7278,7 @@ PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
 	qy = s[1] + u * dy - p[1];
 	return qx * qx + qy * qy;
 }
-/* Max squared distance from points pts (2 doubles each) to end of segment s. */
+/* Max squared distance from pts (2 doubles each) to end of segment s. */
 PVS__STATIC double pvs__ot_far2(const double *pts, uint32_t n, const double *s) {
 	double far2 = 0.0;
 	uint32_t i, m;
@@ -7284,7 +7316,7 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 }
 
 /* Max visibility distances (§6.5.5), bottom-up, backward pass (children follow parents): out-leaves unbounded,
-   in-leaves stored occluder's max distance to cell point (on any line, at most that far from its cell exit). */
+   in-leaves stored occluder's max distance to cell point (any line is at most that far from its cell exit). */
 PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
 	size_t i;
 	for (i = t->node_count; i-- > 0;) {
@@ -7319,8 +7351,8 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 
 /* ---- 2D from-region API (ch. 6) ---- */
 
-/* Cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy), made CCW, into `cell` (2 n doubles).
-   PVS_OK, or BAD_CELL (in err) if no area or not convex. */
+/* Cell polygon `in` (n >= 3 vertices) centred at vertex mean (*cx, *cy), made CCW, into `cell` (2 n doubles). PVS_OK,
+   or BAD_CELL (in err) if no area or not convex. */
 PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy,
 									 pvs_error *err) {
 	double area = 0.0;
@@ -7351,8 +7383,8 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 	return PVS_OK;
 }
 
-/* MVD shortcut distances (§6.5.5) of `count` segments to cell (n vertices), rounded outward by len_eps: reach[i]
-   largest distance from segment i to cell point, near[i] least (0 if they meet). */
+/* MVD shortcut distances (§6.5.5) of `count` segments to cell (n vertices), rounded outward by len_eps: reach[i] max
+   distance from segment i to cell point, near[i] min (0 if they meet). */
 PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
 									double *reach, double *near) {
 	uint32_t i, k;
@@ -7373,9 +7405,9 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 	}
 }
 
-/* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert (an occluder crossing cell
-   is visible anyway; its outside parts still block). test 1, exact re-test: 1 if it meets cell, is a point, is
-   degenerate from cell edge, or a line from edge reaches it past occluders. */
+/* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert (occluder crossing cell is
+   visible anyway; its outside parts still block). test 1, exact re-test: 1 if it meets cell, is a point, is degenerate
+   from cell edge, or a line from edge reaches it past occluders. */
 PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
 								 double near, int test) {
 	uint32_t k;
@@ -7502,7 +7534,7 @@ done:
    round inward, ends are vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into new *out (allocator a,
    *out_floats floats), *vertical: vertical triangles; OOM leaves *out NULL. */
 #define PVS__FX_MAX_COVER 512 /* slabs under more triangles left out (conservative) */
-#define PVS__OT25_LEVELS 8 /* facade base heights OTREE bake tells apart (pvs__otree_prepare) */
+#define PVS__OT25_LEVELS 8 /* facade base heights OTREE tells apart (pvs__otree_prepare) */
 
 typedef struct pvs__fxopen {
 	double s0, s1, bot, top;
@@ -7527,7 +7559,7 @@ PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, u
 	return 1;
 }
 
-/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from their smaller-s end: shared edges agree. */
+/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from smaller-s end: shared edges agree. */
 PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, double *lo, double *hi) {
 	int i;
 	*lo = DBL_MAX; *hi = -DBL_MAX;
@@ -7798,18 +7830,18 @@ done:
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
 
-/* Proving hidden things hidden dominates cost (shortcuts below: tests/BENCHMARKS.md, otree). */
+/* Proving hidden things hidden dominates cost (shortcuts: tests/BENCHMARKS.md, otree). */
 
 #define PVS__OT25_MAX_UMBRAE 96
-#define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
-/* kD nodes with fewer item references go untested (cf. §4.12.1: none below 50 polygons) */
+#define PVS__OT25_JD 10 /* per-occluder doubles (pvs__ot25_prepare) */
+/* kD nodes with fewer item references untested (cf. §4.12.1: none below 50 polygons) */
 #define PVS__OT25_TEST_MIN 48
 
-/* Hidden-height bound (§6.5.5's max visibility distance, valid in 2.5D where occluders are seen over): an in-leaf's
-   lines cross every member j. A ray on one from eye p at most H = t->eye high passing over j (top h_j > H) rises at
-   slope >= s = (h_j - H) / reach_j (|pc| <= reach_j at crossing c): points at distance >= n > reach_j from cell, lower
-   than H + s n, are hidden. Leaves keep steepest member (mr = reach, ms = s), inner nodes children's largest reach,
-   least slope; none (DBL_MAX) over out-leaves and members no taller than eyes. */
+/* Hidden-height bound (§6.5.5's max visibility distance, valid in 2.5D where occluders are seen over): in-leaf's lines
+   cross every member j. A ray on one from eye p <= H = t->eye high passing over j (top h_j > H) rises at slope >= s =
+   (h_j - H) / reach_j (|pc| <= reach_j at crossing c): points >= n > reach_j from cell, lower than H + s n, are hidden.
+   Leaves keep steepest member (mr = reach, ms = s), inner nodes children's largest reach, least slope; none (DBL_MAX)
+   over out-leaves and members no taller than eyes. */
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	(void)t;
 	if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join) */
@@ -7839,7 +7871,7 @@ PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double
 	if (sl > nd->ms || (sl == nd->ms && r < nd->mr)) { nd->ms = sl; nd->mr = r; }
 	if (r < nd->ml) { nd->ml = r; nd->mls = sl; }
 }
-/* Parameter hull on segment e of polygon q's lines (vertices), clamped to [0, 1]. */
+/* Parameter hull on segment e of q's lines (vertices), clamped to [0, 1]. */
 PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double *f0, double *f1) {
 	double lo = DBL_MAX, hi = -DBL_MAX, u;
 	int i;
@@ -7890,10 +7922,10 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 }
 
 /* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from eyes
-   at height H = t->eye anywhere over cell (§7.1: falling ray is seen at least as well from its 2D line's cell exit, a
+   at height H = t->eye anywhere over cell (§7.1: falling ray is seen at least as well from its 2D line's cell exit,
    rising one from its entry; both on top edges): open interval (u0, u1) on e where all such rays pass below j's top.
    For eye p, q is below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D: signed distance to j's line (> 0 on source side);
-   monotone in D(p), so corners' extreme D (clamped at 0: eyes behind j's line do not look over it) cover every eye
+   monotone in D(p), so corners' extreme D (clamped at 0: eyes behind j's line do not look over it) cover all eyes
    (thesis's pi_o / pi_s over whole cell): one tree per edge serves both. 0 if empty. */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
 								double *u1) {
@@ -8006,7 +8038,7 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 	}
 	*f0 = flo; *f1 = fhi;
 	*v0 = flo; *v1 = fhi;
-	/* first, last parameter of [flo, fhi] outside all umbrae (touching umbrae join) */
+	/* first, last parameter of [flo, fhi] outside all umbrae (touching ones join) */
 	do {
 		changed = 0;
 		for (i = 0; i < nu; ++i)
@@ -8080,8 +8112,8 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 	t->stack_count = base;
 }
 
-/* Kind of leaf holding unit line w (descending with w alone); 0 if w is within 1e-9 of plane on its path or outside
-   lines leaving via source edge. */
+/* Kind of leaf holding unit line w (descending with w alone); 0 if w within 1e-9 of plane on its path or outside lines
+   leaving via source edge. */
 PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	uint32_t node = 0;
 	int in_root = 0;
@@ -8139,8 +8171,8 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 
 /* Read-only test (§3.3.4): 1 if blocker line may pass stored occluders (or OOM). Splits with slack, stops at first
    visible leaf. 2D (§6.5.3; e NULL, h unused): line reaches occluder k before any stored one; slivers
-   (pvs__ot_thickness) do not count, so insertion's rounding (order) is moot. 2.5D (c-LSS): part of far edge e (height
-   h) of box `box` may be seen. near: distance for subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
+   (pvs__ot_thickness) do not count: insertion's rounding (order) is moot. 2.5D (c-LSS): part of far edge e (height h)
+   of box `box` may be seen. near: distance for subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 								const double *e, const double *box) {
 	size_t base = t->stack_count, top;
@@ -8186,7 +8218,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
 									  int *any_far) {
 	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* source edge's outward direction */
-	/* bound counts every member, also those crossing box that pvs__ot25_open ignores (a wall on ground tile would hide
+	/* bound counts every member, also those crossing box that pvs__ot25_open ignores (wall on ground tile would hide
 	   its far edge): with whole box's nearness, member of smaller reach is wholly nearer */
 	double near = pvs__ot25_near(t, bx);
 	int i, vis = 0, far_edge, order[3];
@@ -8196,10 +8228,10 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 	c4[5] = c4[7] = bx[3];
 	if (any_far) *any_far = 0;
 	if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
-	/* A box taller than eyes is seen, if at all, along a rising ray, best where its 2D line enters it; a lower one
-	   along a falling ray, where it leaves (a farther point at equal height is higher over every occluder in front;
-	   members crossing box ignored by pvs__ot25_open). No line enters via box edge facing away from source or leaves
-	   via the one facing it (edges 0..3: -v, +u, +v, -u): test entry (exit) edge first, likeliest seen, then sides. */
+	/* Box taller than eyes is seen, if at all, along a rising ray, best where its 2D line enters it; a lower one along
+	   a falling ray, where it leaves (farther point at equal height is higher over every occluder in front; members
+	   crossing box ignored by pvs__ot25_open). No line enters via box edge facing away from source or leaves via the
+	   one facing it (edges 0..3: -v, +u, +v, -u): entry (exit) edge first, likeliest seen, then sides. */
 	if (fabs(nx) > fabs(ny)) far_edge = nx > 0 ? 1 : 3;
 	else far_edge = ny > 0 ? 2 : 0;
 	order[0] = top > t->eye ? (far_edge + 2) & 3 : far_edge;
@@ -8209,8 +8241,8 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 		int edge = order[i], on, nb, deg, m;
 		double sg[4], o[4], pa, pb, c;
 		pvs__otpoly bl[2];
-		/* skip an edge no line enters (tall box) or leaves (low box): outward normal m, m.x = c on it; line from p
-		   enters if m.p > c, leaves if m.p < c (exact) */
+		/* skip edge no line enters (tall box) or leaves (low box): outward normal m, m.x = c on it; line from p enters
+		   if m.p > c, leaves if m.p < c (exact) */
 		if (edge & 1) { pa = a[0]; pb = b[0]; c = edge == 1 ? bx[2] : bx[0]; }
 		else { pa = a[1]; pb = b[1]; c = edge == 2 ? bx[3] : bx[1]; }
 		if (edge == 0 || edge == 3) { pa = -pa; pb = -pb; c = -c; }
@@ -8232,7 +8264,7 @@ typedef struct pvs__ot25_sweep {
 	const double *all; /* facades, local, 4 doubles */
 	const double *box; /* objects, local, 5 doubles */
 	const double *cell; /* grown cell, CCW */
-	unsigned char *state; /* per facade: 1 + side once in this side's tree */
+	unsigned char *state; /* per facade: 1 + side once in side's tree */
 	unsigned char *done; /* objects: 0 unknown, 1 visible, 2 never, 3 + side: candidate in this tree */
 	const double *a, *b;
 	double cx, cy;
@@ -8257,7 +8289,7 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 	if (t->oom) return PVS_VISIT_STOP;
 	bx[0] = (double)node_box->min[0] - w->cx; bx[1] = (double)node_box->min[1] - w->cy;
 	bx[2] = (double)node_box->max[0] - w->cx; bx[3] = (double)node_box->max[1] - w->cy;
-	{ /* skip nodes wholly behind source edge's line; a -> b is clockwise: (-ey, ex) outward */
+	{ /* skip nodes wholly behind source edge's line; a -> b clockwise: (-ey, ex) outward */
 		double ex = w->b[0] - w->a[0], ey = w->b[1] - w->a[1], nx = -ey, ny = ex, far;
 		far = nx * (nx > 0 ? bx[2] : bx[0]) + ny * (ny > 0 ? bx[3] : bx[1]) - (nx * w->a[0] + ny * w->a[1]);
 		if (far < -t->len_eps * (fabs(nx) + fabs(ny) + 1.0)) return PVS_VISIT_SKIP;
@@ -8302,8 +8334,8 @@ PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source
 }
 
 /* Balanced top of source edge's tree: front-to-back insertion carves open region (lines down a street) into a chain as
-   deep as occluders along it, walked by later queries. First splitting root by (exact) planes of PVS__OT25_PRESPLIT far
-   points over all directions leaves short chains, one per direction sector. Reorders pts[lo..hi): each goes with child
+   deep as occluders along it, walked by later queries. Splitting root first by (exact) planes of PVS__OT25_PRESPLIT far
+   points over all directions leaves short chains, one per direction sector. Reorders pts[lo..hi): each with child
    holding its line from m. */
 #define PVS__OT25_PRESPLIT 16
 PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
@@ -8414,8 +8446,8 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 }
 
 /* One tree per top edge (§7.1): lines leaving cell via edge `side` (corner side + 1 to corner side), built by sweeping
-   `tree`; candidates left by its visible leaves are then tested (§7.7) into visible_objects. 0 if no object is left to
-   decide or tree stopped (t->oom: OOM). */
+   `tree`; candidates left by its visible leaves then tested (§7.7) into visible_objects. 0 if no object left to decide
+   or tree stopped (t->oom: OOM). */
 PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
 							   pvs_word *visible_objects) {
 	pvs__otree *t = w->t;
@@ -8467,7 +8499,7 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
 	return r;
 }
 
-/* Per kD node: item references in its subtree (0xffffffff where children do not follow parent). */
+/* Per kD node: item references in subtree (0xffffffff where children do not follow parent). */
 PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
 	uint32_t i;
 	for (i = tree->node_count; i-- > 0;) {
@@ -8596,12 +8628,12 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 
 /* ---- from-point culling: shadow-volume occlusion tree (ch. 4) ---- */
 
-/* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes through eye (unit normal,
-   child[1] +); in-leaf: fragment blocking its ray pyramid. Edge marks: §4.10.1. Conservative: in-leaf region meets
-   exact stored planes, so all its rays meet occluder; insertion may drop slivers below tol, never claim more. Tests
-   widen: box descends all sides within `tol` (1e-10 x eye-relative scene size, >> unit-normal dot error), is behind a
-   fragment or outside its pyramid only beyond fragment's tol. Box tests take each plane at sign-picked corner, same ops
-   for all boxes: monotone: hidden node's child never tests visible; hierarchy updating is exact (§4.11.4). */
+/* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes through eye (unit normal);
+   in-leaf: fragment blocking its ray pyramid. Edge marks: §4.10.1. Conservative: in-leaf region meets exact stored
+   planes, so all its rays meet occluder; insertion may drop slivers below tol, never claim more. Tests widen: box
+   descends all sides within `tol` (1e-10 x eye-relative scene size, >> unit-normal dot error), is behind a fragment or
+   outside its pyramid only beyond fragment's tol. Box tests take each plane at sign-picked corner, same ops for all
+   boxes, so are monotone: hidden node's child never tests visible; hierarchy updating is exact (§4.11.4). */
 
 #define PVS__SV_MAXV 16
 #define PVS__SV_STACK 256
@@ -8613,7 +8645,7 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 typedef struct pvs__svpoly {
 	int n;
 	double v[PVS__SV_MAXV][3]; /* vertices, eye at origin */
-	double e[PVS__SV_MAXV][3]; /* edge v[i] -> v[i + 1]: its eye plane's unit normal (polygon on +) */
+	double e[PVS__SV_MAXV][3]; /* edge v[i] -> v[i + 1]: eye plane's unit normal (polygon on +) */
 	unsigned char mark[PVS__SV_MAXV];
 } pvs__svpoly;
 
@@ -8847,7 +8879,7 @@ PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpo
 }
 
 /* Merges occluder polygon q (§3.3.3, App. C.1.4): filtered down, split, edges marked; out-leaves become its e-OT;
-   in-leaves: replaces stored fragment where in front (approximate sweep may insert a nearer occluder late). */
+   in-leaves: replaces stored fragment where in front (approximate sweep may insert nearer occluder late). */
 PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const double plane[4]) {
 	uint32_t sp = 0;
 	o->stack[0] = *poly;
@@ -8865,7 +8897,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 				if (d < lo) lo = d;
 				if (d > hi) hi = d;
 			}
-			if (lo >= -ins || hi <= ins) { /* one side; its edges in this plane (same side) marked */
+			if (lo >= -ins || hi <= ins) { /* one side; its edges in this plane marked */
 				int side = lo >= -ins ? 1 : 0;
 				for (i = 0; i < q->n; ++i)
 					if (side ? pvs__sv_same(q->e[i], nd->n)
@@ -9007,7 +9039,7 @@ PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], c
 	return vis ? PVS__SV_V : PVS__SV_I;
 }
 
-/* Frustum (outside a plane: invisible; crossing: at most partly), then tree. */
+/* Frustum (outside a plane: invisible; crossing: <= partly), then tree. */
 PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 	double lo[3], hi[3];
 	int k, cross = 0;
@@ -9469,7 +9501,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 	/* hierarchical walk (§4.3, Fig. 4.5) */
 	o->touched_count = 0;
 	if (s->object_tree->bounds.min[0] <= s->object_tree->bounds.max[0]) pvs__sv_walk(o, 0, &s->object_tree->bounds);
-	/* visible leaves' objects; partly visible leaves' if their box may be seen */
+	/* visible leaves' objects; partly visible leaves' if box may be seen */
 	for (i = 0; i < o->touched_count; ++i) {
 		uint32_t ob = o->touched[i], fl = o->obj_flag[ob];
 		if ((s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) ||
@@ -9504,10 +9536,10 @@ typedef struct pvs__otree_bake {
 	pvs_kdtree *tree[PVS__OT25_LEVELS]; /* per level, over pvs_visibility_25d_boxes */
 } pvs__otree_bake;
 
-/* c-LSS (§7.1) facades from scene walls (pvs__facades_extract), standing on ground (a ray over one's 2D line passes
-   only above its top); ray height being linear, facade of base b serves rays with both ends >= b: cell bottom c to
-   object bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (a facade joins lowest at or above
-   its base: conservative); level k's kD-tree holds objects and facades of levels <= k. */
+/* c-LSS (§7.1) facades from scene walls (pvs__facades_extract), standing on ground (ray over one's 2D line passes only
+   above its top); ray height being linear, facade of base b serves rays with both ends >= b: cell bottom c to object
+   bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (facade joins lowest at or above its base:
+   conservative); level k's kD-tree holds objects and facades of levels <= k. */
 PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells,
 										  uint32_t cell_count) {
 	int up = s->up_axis == 2 ? 2 : 1, u, v;
@@ -9644,7 +9676,7 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 		d.tree = ot->tree[k];
 		d.objects = ot->objects;
 		d.object_count = no;
-		if (used != 1u << k || below) { /* other levels' objects left out */
+		if (used != 1u << k || below) { /* other levels' objects out */
 			if (!own) {
 				own = (float *)pvs__alloc_array(&ot->allocator, (size_t)no * 5 + 5, sizeof(float));
 				part = (pvs_word *)pvs__alloc_array(&ot->allocator, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
@@ -9786,7 +9818,7 @@ typedef struct pvs__obvh_node {
 } pvs__obvh_node;
 typedef struct pvs__obvh {
 	pvs__obvh_node *nodes;
-	uint32_t *items, *leaf_of; /* leaf_of: per object, its leaf or 0xffffffff */
+	uint32_t *items, *leaf_of; /* leaf_of: per object, leaf or 0xffffffff */
 	uint32_t *count_below;
 	uint32_t node_count, item_count, object_count;
 } pvs__obvh;
@@ -9884,7 +9916,7 @@ PVS__STATIC int pvs__seg_meet(double ax, double ay, double bx, double by, double
 	return 1;
 }
 
-/* 1 if closed voxel box is in explicit occluder (rounds toward "not inside"). */
+/* 1 if closed voxel box in explicit occluder (rounds toward "not inside"). */
 PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, const double lo[3], const double hi[3]) {
 	int k, u, v;
 	uint32_t i, j;
@@ -10105,10 +10137,10 @@ PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int
 
 typedef void (*pvs__vx_visit_fn)(void *user, const uint32_t idx[3]);
 
-/* Visits cells of gr in [r0, r1] that convex polygon p (3 points, or 2: segment) grown by m may meet: clipped to slabs
-   along k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] whose clips give k[0] ranges: long sliver costs its
-   cells, not its box. Candidates only; slabs grow 1e-3 cell beyond m, far above clip rounding: all cells an exact
-   margin-m test accepts are visited. */
+/* Visits cells of gr in [r0, r1] convex polygon p (3 points, or 2: segment) grown by m may meet: clipped to slabs along
+   k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] whose clips give k[0] ranges: long sliver costs its cells,
+   not its box. Candidates only; slabs grow 1e-3 cell beyond m, far above clip rounding: every cell an exact margin-m
+   test accepts is visited. */
 PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m,
 							  const uint32_t r0[3], const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
 	double slab[3 * 8], tmp[3 * 8], row[3 * 8], g = m + 1e-3 * gr->h, h = gr->h;
@@ -10198,17 +10230,17 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
 /* ---- certified solid: crossing parity floods per edge-connected component ----
 
    Conservative: for triangles K and x above ground level g, w(x) = parity of K's triangles crossed by x's upward ray.
-   If K's edges have even use counts (but at up = g: no sight line between points above g dips below), w is constant on
-   each connected piece of space minus K; odd (open) edge flips w across vertical sheet below it. A voxel is pure if no
-   K triangle or sheet is within margin m (one w), mixed if only a triangle is (nodes w = 0, 1: joining equal-w parts
-   over-approximates connectivity), bad if a sheet is (one node). Free space is open, so a path avoiding K crosses
-   voxels via faces only, carrying face point's w: graph linking face neighbours' equal-w nodes (any node of a bad
-   voxel) holds all such paths; outside K's voxel box (sheets end at g, inside it) is one w = 0 region. Flooding from
-   voxels meeting a cell, and from outside if a cell leaves box, reaches all a viewer can walk to without touching K:
-   pure voxel it misses is seen from no cell, so sight lines through it meet a triangle first. Solid for some triangles
-   is solid for all: components flood alone (overlapping meshes keep their parity). w is read per column on vertical
-   line with certain orientation signs (pvs__vx_cross). Slits or doors narrower than a voxel give mixed or bad voxels,
-   joining both sides. */
+   If K's edges have even use counts (except at up = g: no sight line between points above g dips below), w is constant
+   on each connected piece of space minus K; odd (open) edge flips w across vertical sheet below it. Voxel: pure if no K
+   triangle or sheet within margin m (one w), mixed if only a triangle (nodes w = 0, 1: joining equal-w parts
+   over-approximates connectivity), bad if a sheet (one node). Free space is open, so a path avoiding K crosses voxels
+   via faces only, carrying face point's w: graph linking face neighbours' equal-w nodes (any node of bad voxel) holds
+   all such paths; outside K's voxel box (sheets end at g, inside it) is one w = 0 region. Flood from voxels meeting a
+   cell, and from outside if a cell leaves box, reaches all a viewer can walk to without touching K: a pure voxel it
+   misses is seen from no cell, so sight lines through it meet a triangle first. Solid for some triangles is solid for
+   all: components flood alone (overlapping meshes keep parity). w read per column on vertical line with certain
+   orientation signs (pvs__vx_cross). Slits, doors narrower than a voxel give mixed or bad voxels, joining both
+   sides. */
 
 /* orient2d (b - a) x (p - a); *bound bounds its rounding (each difference, product rounded once: <= 4.5e-16 (|t1| +
    |t2|)): sign certain if |value| > *bound. No underflow for floats. */
@@ -10877,12 +10909,12 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
 	return nnear;
 }
 
-/* Step 4, sources: cells meeting box (one clear of K by m is convex and free: its voxels get its one w's node; else all
-   nodes), and outside if a cell is partly outside. Leaking cells (poking through closed level's wall into a mesh's
-   faceless void) would join every wall's interior to flood, so if under half the active cells lie outside box, outside
-   floods first, and cells outside, partly outside or reached are excluded if together under half. Excluded cells seed
-   no later flood, get no occluder (pvs_shrink_cell sets all objects for them); argument holds for the rest. Leaves
-   sources in fl->queue; returns pvs__vx_flood_run's ext. */
+/* Step 4, sources: cells meeting box (one clear of K by m is convex and free: its voxels get its w's node; else all
+   nodes), and outside if a cell is partly outside. Leaking cells (through a closed level's wall into a mesh's faceless
+   void) would flood every wall's interior, so if under half the active cells lie outside box, outside floods first;
+   cells outside, partly outside or reached are excluded if together under half. Excluded cells seed no later flood, get
+   no occluder (pvs_shrink_cell sets all objects for them); argument holds for the rest. Sources left in fl->queue;
+   returns pvs__vx_flood_run's ext. */
 PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
 	pvs__vx_flood *fl = fb->fl;
 	uint8_t *bits = fl->bits;
@@ -10991,11 +11023,11 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
 
 /* ---- 2.5D occluders: proved-solid columns at finer resolution, eroded by distance ----
 
-   Each component floods again on its own grid (voxel eps, grown within budgets). A column-map square (side eps / 2,
-   larger past PVS__VX_MAP_BUDGET) has solid height = least top of proved-solid ground runs in voxel columns it
-   overlaps; occluder height (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below component's triangles
-   within eps of it: every point below has an eps-ball free of component, joined to proved solid, so sight lines through
-   it meet a triangle first. Squares grow by margin above coordinate float precision. */
+   Each component floods again on own grid (voxel eps, grown within budgets). Column-map square (side eps / 2, larger
+   past PVS__VX_MAP_BUDGET): solid height = least top of proved-solid ground runs in voxel columns it overlaps; occluder
+   height (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below component's triangles within eps of it:
+   every point below has an eps-ball free of component, joined to proved solid, so sight lines through it meet a
+   triangle first. Squares grow by margin above coordinate float precision. */
 
 #define PVS__VX_BOX_BUDGET (1u << 23)
 #define PVS__VX_MAP_BUDGET (1u << 22)
@@ -11121,7 +11153,7 @@ PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo
 	}
 }
 
-/* A component's column-map pass: flood, ground runs, squares' solid, occluder heights. */
+/* Component's column-map pass: flood, ground runs, squares' solid, occluder heights. */
 PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
 												 const pvs__vx_grid *gk, const uint32_t lo[3], const uint32_t hi[3],
 												 double m, double eps, double margin, pvs__vx_flood *fl) {
@@ -11186,7 +11218,7 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 			top = pvs__dmin(hsub, (double)tmin[xs] - eps);
 			if (top > g && pvs__f_down(top) > cm->top[x]) cm->top[x] = pvs__f_down(top);
 		}
-	if (!ext) { /* no viewer outside box: outside solid to grid top; occluders there over eps (+ margin) off it */
+	if (!ext) { /* no viewer outside box: outside solid to grid top; occluders there eps (+ margin) off it */
 		float sky = pvs__f_down(o->origin[up] + o->n[up] * o->h);
 		uint32_t e0, e1, f0, f1;
 		pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, e, &e0, &e1);
@@ -11229,8 +11261,8 @@ PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int
 	return 1;
 }
 
-/* Simplifies a loop of n integer points (region on left) from inside, in place (pt: room for 2n): from each kept point
-   to farthest later one whose chord keeps skipped points right of or on it, <= a square off (area lost, never added),
+/* Simplifies loop of n integer points (region on left) from inside, in place (pt: room for 2n): from each kept point to
+   farthest later one whose chord keeps skipped points right of or on it, <= a square off (area lost, never added),
    meeting no other loop edge. Slanted-wall staircases: long edges shadowing whole cull-map cells. Returns count. */
 PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 	uint32_t i = 0, kept = 0, j, k, start;
@@ -11752,7 +11784,7 @@ typedef struct pvs__vx_build {
 	pvs_allocator a;
 	pvs_occluders *o;
 	pvs_box ext; /* scene and cell bounds */
-	double g, h, m; /* ground, voxel size, margin voxel tests round toward "touched" by */
+	double g, h, m; /* ground, voxel size, margin voxel tests round toward "touched" */
 	uint32_t up;
 	int u, v;
 	size_t total, qcap, nbuckets;
@@ -11764,7 +11796,7 @@ typedef struct pvs__vx_build {
 	pvs__vx_flood fl;
 } pvs__vx_build;
 
-/* Frees, forgets flood scratch but per-cell buffer (step 5, error path). */
+/* Frees flood scratch but per-cell buffer (step 5, error path). */
 PVS__STATIC void pvs__vx_flood_free(pvs__vx_build *b) {
 	const pvs_allocator *a = &b->a;
 	pvs__vx_flood *fl = &b->fl;
@@ -12011,7 +12043,7 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 	}
 }
 
-/* Step 3, leak diagnostic: 6-connected flood from grid border through voxels not touched, ground or explicit (a path
+/* Step 3, leak diagnostic: 6-connected flood from grid border through voxels not touched, ground or explicit (path
    meeting no triangle). info.leak_cells: cells reached; info.leak_cell, leak_point: lowest, a reached voxel. Uses
    b->queue (total entries). */
 PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
@@ -12278,7 +12310,7 @@ typedef struct pvs__walk {
 	pvs_kdtree *solids; /* over cbox */
 } pvs__walk;
 
-/* 1 if p is inside a closed mesh: odd crossings above p (ambiguous: not inside). */
+/* 1 if p inside a closed mesh: odd crossings above p (ambiguous: not inside). */
 PVS__STATIC int pvs__walk_inside(const pvs__walk *k, const float p[3]) {
 	uint32_t n = 0, i;
 	const uint32_t *items = pvs_kdtree_leaf_items(k->solids, p, &n);
@@ -12302,7 +12334,7 @@ PVS__STATIC pvs_result pvs__walk_solids(pvs__walk *k, pvs_error *err) {
 	if (pvs__vx_topology(s, s->bounds.min[k->up], &k->d.allocator, &k->tp) != PVS_OK) return PVS__OOM(err, "meshes");
 	k->cbox = (pvs_box *)pvs__alloc_array(&k->d.allocator, k->tp.comp_count + 1, sizeof(pvs_box));
 	if (!k->cbox) return PVS__OOM(err, "mesh boxes");
-	for (c = 0; c < k->tp.comp_count; ++c) { /* closed, or open only around its base: standing on floor */
+	for (c = 0; c < k->tp.comp_count; ++c) { /* closed, or open only around base: standing on floor */
 		float base;
 		k->cbox[c] = pvs__box_empty();
 		for (t = k->tp.comp_first[c]; t < k->tp.comp_first[c + 1]; ++t) {
@@ -12385,7 +12417,7 @@ PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	return 1;
 }
 
-/* Most a walk climbs between neighbouring columns: a step, or a ramp or stairs at max_slope. */
+/* Most a walk climbs between neighbouring columns: a step, or ramp or stairs at max_slope. */
 PVS__STATIC double pvs__walk_climb(const pvs__walk *k) {
 	return pvs__dmax(k->d.step_height, k->hs * tan((double)k->d.max_slope));
 }
@@ -12485,12 +12517,12 @@ PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, ui
 	b.max[k->up] = hi + k->d.eye_height;
 	for (m = 0; m < k->d.volume_count; ++m)
 		if (pvs__box_overlap(&b, k->d.volumes + m)) pvs__box_add_box(&in, k->d.volumes + m);
-	if (k->d.volume_count) pvs__box_clip(&b, &in); /* union's bounds: no sliver where two volumes meet */
+	if (k->d.volume_count) pvs__box_clip(&b, &in); /* union's bounds: no sliver where volumes meet */
 	if (cells && *n < capacity) cells[*n] = b;
 	++*n;
 }
 
-/* A rectangle group grown over neighbouring squares (<= max_merge per side, rows of equal extent), or other groups as a
+/* Rectangle group grown over neighbouring squares (<= max_merge per side, rows of equal extent), or other groups as a
    box per run of equal sample rows. */
 PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint32_t *sq_first, pvs__wgroup *a0,
 								 pvs_box *cells, uint32_t capacity, uint32_t *n) {
@@ -12598,7 +12630,7 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 }
 
 /* Breadth first from sample s0 (k->local[] zero; k->global: queue): walk climbs pvs__walk_climb knee to knee, or drops
-   any height (across at knee, then down). Marks k->local[] of those reached; returns how many. */
+   any height (across at knee, then down). Marks k->local[] of those reached; returns count. */
 PVS__STATIC uint32_t pvs__walk_reach(pvs__walk *k, uint32_t s0) {
 	double climb = pvs__walk_climb(k);
 	uint32_t head = 0, tail = 0, d, b;
@@ -12683,11 +12715,11 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 		k.global = (uint32_t *)pvs__alloc_array(&k.d.allocator, nlink, sizeof(uint32_t));
 		if (!k.local || !k.global) r = PVS__OOM(err, "walkable links");
 	}
-	if (r == PVS_OK && k.d.seed) { /* keep floors a walk reaches from the one under seed */
+	if (r == PVS_OK && k.d.seed) { /* keep floors a walk reaches from one under seed */
 		uint32_t keep = PVS__WNONE, tail = 0;
 		double best = 0.0;
 		float p[3];
-		for (a = 0; a < k.n; ++a) { /* nearest floor <= a step over seed, higher on a tie */
+		for (a = 0; a < k.n; ++a) { /* nearest floor <= a step over seed, higher on tie */
 			double du, dv;
 			pvs__walk_point(&k, k.w[a].col, k.w[a].h, p);
 			du = (double)p[k.u] - k.d.seed[k.u];
@@ -12726,23 +12758,22 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 
 // >>vocc
 /* ==== vocc: virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): aggregate umbrae grown from seeds along active
-   supporting and separating lines (§3), 2.5D by height slices (§3.1), the greedy selection (Fig. 6), five quantized
-   bytes per occluder, the PVS rebuilt on cell entry (§2, §4) ==== */
+   supporting and separating lines (§3), 2.5D by height slices (§3.1), greedy selection (Fig. 6), five quantized bytes
+   per occluder, PVS rebuilt on cell entry (§2, §4) ==== */
 /* 2D (§3): cell C a rectangle, occluders opaque segments. Segments closing a ring with exactly equal ends form a wall
    loop: a point inside (odd crossings) is hidden from all outside, and a segment crossing its hull from outside to
    outside crosses the loop, so a loop whose hull misses C is a convex blocker (its hull) for points outside it. §3's
-   objects: these hulls (buildings), other segments.
-   Conservative: x is hidden iff every segment C-x meets a blocker. A convex blocker disjoint from C, not containing x,
-   covers an interval of C's fan from x, wholly before or behind C per ray (disjoint convex sets seen from a point keep
-   their order): one ray decides; x is hidden if intervals before C cover the fan (pvs__vo_hidden). Along a line the
-   answer changes only at object boundaries or common tangents through C of two objects (or object and C); hidden sets
-   are closed, so one point per interval between events finds hidden parts up to rounding (pvs__vo_line_hidden). Each
-   virtual occluder is so checked after final rounding, against its aggregate's blockers (a subset).
-   Growth (§3): seeds by subtended angle; an aggregate grows both sides along active supporting line P (outer tangent
-   of C and aggregate) and separating polyline Q (first the inner tangent). Object B hit by an active line: (1) meets
-   umbra U (a probe point of B hidden without B): joins U, P and Q move to it, a new occluder goes behind B or (3, found
-   on Q) the furthest one extends; (2) meets only Q: bends Q, joins blockers so later objects fuse through it. A new
-   occluder dumps the current one into the dense set ("periodically dumped", §3). */
+   objects: these hulls (buildings), other segments. Conservative: x hidden iff every segment C-x meets a blocker. A
+   convex blocker disjoint from C, not holding x, covers an interval of C's fan from x, wholly before or behind C per
+   ray (disjoint convex sets seen from a point keep order): one ray decides; x hidden if intervals before C cover the
+   fan (pvs__vo_hidden). Along a line the answer changes only at object boundaries or common tangents through C of two
+   objects (or object and C); hidden sets are closed, so a point per interval between events finds hidden parts up to
+   rounding (pvs__vo_line_hidden). Each virtual occluder is so checked after final rounding, against its aggregate's
+   blockers (a subset). Growth (§3): seeds by subtended angle; an aggregate grows both sides along active supporting
+   line P (outer tangent of C and aggregate) and separating polyline Q (first the inner tangent). Object B hit by an
+   active line: (1) meets umbra U (a probe point of B hidden without B): joins U, P and Q move to it, new occluder
+   behind B or (3, found on Q) furthest one extends; (2) meets only Q: bends Q, joins blockers so later objects fuse
+   through it. New occluder dumps current one into the dense set ("periodically dumped", §3). */
 
 #define PVS__VO_NONE 0xffffffffu
 #define PVS__VO_MAXH 64u /* max hull vertices of a loop blocker */
@@ -12894,7 +12925,7 @@ PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
 }
 
 /* Per vertex: degree (w->deg), first two segments (w->adj), component root (w->uf); per root w->idx = 1 if not a loop
-   (a vertex of degree != 2). p->seg_loop = -1. */
+   (vertex of degree != 2). p->seg_loop = -1. */
 PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 	uint32_t *deg = w->deg, *adj = w->adj, *uf = w->uf, *idx = w->idx, m = p->nseg, nv = w->nv, i;
 	for (i = 0; i < nv; ++i) { deg[i] = 0; uf[i] = i; }
@@ -13387,7 +13418,7 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 
 /* ---- exact hidden tests ---- */
 
-/* 1 if x is inside wall loop l (odd crossings), over tol from its walls; only loops whose hull misses cell. */
+/* 1 if x inside wall loop l (odd crossings), over tol from its walls; only loops whose hull misses cell. */
 PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x) {
 	const pvs__vprep *p = c->p;
 	uint32_t s = p->loop_start[l], n = p->loop_start[l + 1] - s, i, odd = 0;
@@ -13436,7 +13467,7 @@ PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const
 	}
 }
 
-/* 1 if x is in convex object o or within tol (o unusable from x). */
+/* 1 if x in convex object o or within tol (o unusable from x). */
 PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const double *x) {
 	const double *v = c->vx + 2 * (size_t)o->first;
 	uint32_t i;
@@ -13497,7 +13528,7 @@ PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fa
 }
 
 /* From-point test, blocker o: appends to c->span at *ns (room for 2) fan part o covers before cell (2 if across back
-   direction). 1 if x is in o's wall loop (hidden). */
+   direction). 1 if x in o's wall loop (hidden). */
 PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn,
 								  uint32_t *ns) {
 	const double *v = c->vx + 2 * (size_t)o->first, *cl = fn->cl, *ch = fn->ch, *f = fn->f;
@@ -13770,7 +13801,7 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 	return c->oom ? 0 : nout;
 }
 
-/* 1 if all of a-b is hidden (checked a little past ends). */
+/* 1 if all of a-b hidden (checked a little past ends). */
 PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const double *b) {
 	double d[2], iv[2], len, mu;
 	d[0] = b[0] - a[0];
@@ -13931,7 +13962,7 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	return 1;
 }
 
-/* Case 2: side s's separating polyline bends to b's vertex, all of b kept on aggregate's side. */
+/* Case 2: side s's separating polyline bends to b's vertex, all of b on aggregate's side. */
 PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32_t b) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first, *q = sd->qo;
@@ -13954,7 +13985,7 @@ PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32
 	}
 }
 
-/* 1 if a probe of b (vertices, edge midpoints, extra) is hidden by aggregate sans b: b meets umbra (cases 1, 3). */
+/* 1 if a probe of b (vertices, edge midpoints, extra) hidden by aggregate sans b: b meets umbra (cases 1, 3). */
 PVS__STATIC int pvs__vo_meets_umbra(pvs__vctx *c, uint32_t b, const double *extra, int nextra) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first;
@@ -14113,7 +14144,7 @@ PVS__STATIC void pvs__vo_cell_centre(const pvs_box *cell, int u, int v, double c
 	centre[0] = (double)(0.5f * cell->min[u] + 0.5f * cell->max[u]);
 	centre[1] = (double)(0.5f * cell->min[v] + 0.5f * cell->max[v]);
 }
-/* Smallest scale code whose range holds every point within reach of centre. */
+/* Smallest scale code whose range holds all points within reach of centre. */
 PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
 	uint32_t code;
 	for (code = 0; code < 255; ++code)
@@ -14266,7 +14297,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 				hitp[1] = sd[s].po[1] + sp * sd[s].pd[1];
 				on_q = t >= 0.0;
 			}
-			{ /* probes: hit point pushed a little toward umbra, along ray */
+			{ /* probes: hit point pushed a little toward umbra along ray */
 				double nx = s ? sd[s].pd[1] : -sd[s].pd[1], ny = s ? -sd[s].pd[0] : sd[s].pd[0];
 				double sz = 0.02 * ((c->obj[b].bb[2] - c->obj[b].bb[0]) + (c->obj[b].bb[3] - c->obj[b].bb[1])) + c->tol;
 				const double *rd = via_q ? sd[s].qd : sd[s].pd;
@@ -14456,8 +14487,8 @@ PVS__STATIC int pvs__vo_rt_hides(const pvs__vo_rt *r, const pvs_box *b) {
 		const double *h = r->h[k];
 		if (!((h[0] > 0.0 ? h[0] * x0 : h[0] * x1) + (h[1] > 0.0 ? h[1] * y0 : h[1] * y1) + h[2] > r->m)) return 0;
 	}
-	/* heights: a sight line meets occluder plane at (1 - t) eye + t target, t = dc / (dc + db) (ends' line distances)
-	   in [tmin, tmax]; bounds linear in t */
+	/* heights: sight line meets occluder plane at (1 - t) eye + t target, t = dc / (dc + db) (ends' line distances) in
+	   [tmin, tmax]; bounds linear in t */
 	dbmax = (r->n[0] > 0.0 ? r->n[0] * x1 : r->n[0] * x0) + (r->n[1] > 0.0 ? r->n[1] * y1 : r->n[1] * y0) - r->off;
 	tmin = r->dcmin / (r->dcmin + dbmax);
 	tmax = r->dcmax / (r->dcmax + dbmin);
@@ -15277,30 +15308,28 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 // >>portal
 /* ==== portal: rooms and portals from the scene's closed convex solids, conservative portal flow per cell ==== */
 /* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids are connected closed
-   convex meshes among scene triangles (joined by shared vertices or split ones: pvs__po_solids; each directed edge
-   matched by its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles), not explicit occluder
-   volumes (rays pass them). A BSP on their face planes (q3map2's BuildTree: fragments split by each plane they
-   straddle) ends in leaves wholly inside a solid or outside all: empty ones are rooms. Planes closer than input's float
-   resolution are one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size): touching solids leave no crack. A portal:
-   face of an empty leaf with an empty leaf beyond, pushed down the tree, split by every plane it straddles
-   (Teller 1992 §3.3). A segment between two rooms meeting no solid crosses the portals of leaves it passes, in
-   order. Other triangles do not block here.
+   convex meshes of scene triangles (joined by shared or split vertices: pvs__po_solids; each directed edge matched by
+   its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles), not explicit occluder volumes
+   (rays pass them). A BSP on their face planes (q3map2's BuildTree: fragments split by planes they straddle) ends in
+   leaves inside a solid or outside all: empty ones are rooms. Planes closer than input's float resolution are one
+   (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size): touching solids leave no crack. Portal: empty leaf's face with
+   an empty leaf beyond, pushed down the tree, split by planes it straddles (Teller 1992 §3.3). A segment between rooms
+   missing all solids crosses the portals of leaves it passes, in order. Other triangles block nothing here.
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): a segment from x in view cell C through portals
    P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: lines' source is C_j, C clipped to
-   that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of C_j (or of P(j-1)) and
-   its crossing region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps convex hull R of regions so found on
-   Q; a region W (Q clipped by step's planes into P) not inside R grows R to hull(R, W) and queues the step: a monotone
-   fixed point (as q3map2's might-see pruning); by induction every crossing point lies in its step's R. An object of a
-   leaf entered through Q (or overlapped by C) is kept if a triangle's part in the leaf is behind every plane of the
-   step: a visible point lies so. Past `budget` portal clips: every object of every empty leaf reachable (conservative
-   cut-off). */
+   that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of C_j (or P(j-1)) and its
+   crossing region on Pj. Each step P -> Q (or start leaf's portal Q) keeps hull R of regions so found on Q; region W (Q
+   clipped by step's planes into P) outside R grows R to hull(R, W), queues the step: monotone fixed point (as q3map2's
+   might-see pruning); by induction each crossing point lies in its step's R. Objects of a leaf entered via Q (or
+   overlapped by C) are kept if a triangle's part in the leaf is behind all the step's planes, as visible points are.
+   Past `budget` portal clips: all objects of reachable empty leaves (conservative cut-off). */
 
 #define PVS__PO_MAXW 64u /* clipped winding vertices */
 #define PVS__PO_MAXS 64u /* separating planes per region */
 #define PVS__PO_MAX_FACES 256u /* triangles of a convex-solid mesh */
 #define PVS__PO_DEPTH 200u /* BSP depth (deeper: empty leaf, conservative) */
-#define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* fragment faces: its solid's, 1 per split */
+#define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* fragment faces: solid's, 1 per split */
 #define PVS__PO_CANDIDATES 48u /* split planes scored per node */
 #define PVS__PO_GROWS 6u /* region growths before whole portal */
 #define PVS__PO_NORMAL_EPS 1e-6
@@ -15348,8 +15377,8 @@ typedef struct pvs__poprep {
 	uint32_t bound_pairs; /* pairs < bound_pairs: root box (no portal across) */
 	pvs__po_node *nodes;
 	size_t node_count, node_cap;
-	pvs__po_poly *leaf; /* per leaf its polytope; no faces: solid leaf */
-	pvs_box *leaf_box; /* per leaf its polytope's box (rounded out) */
+	pvs__po_poly *leaf; /* per leaf: polytope; no faces: solid leaf */
+	pvs_box *leaf_box; /* per leaf: polytope's box (rounded out) */
 	size_t leaf_box_cap;
 	size_t leaf_count, leaf_cap;
 	uint32_t root, solids, deep_leaves;
@@ -15358,7 +15387,7 @@ typedef struct pvs__poprep {
 	size_t portal_count, portal_cap;
 	double (*portal_v)[3];
 	size_t portal_v_count, portal_v_cap;
-	uint32_t *lp_first, *lp; /* per leaf its portals out (leaf_count + 1, portal_count) */
+	uint32_t *lp_first, *lp; /* per leaf: portals out (leaf_count + 1, portal_count) */
 	uint32_t *ep_first; /* per portal P first step P -> Q, Q out of leaf `to` (portal_count + 1) */
 	/* objects per empty leaf */
 	uint32_t *lo_first, *lo, *lo_pairs; /* lo_pairs: (leaf, object) while building */
@@ -15498,7 +15527,7 @@ PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
 	return lost;
 }
 
-/* Base square of table plane id clipped by planes[0..count) (pair `skip`'s left out); p->lost set if vertices lost. */
+/* Base square of table plane id clipped by planes[0..count) (pair `skip` left out); p->lost set if vertices lost. */
 PVS__STATIC void pvs__po_clip_base(pvs__poprep *p, uint32_t id, const uint32_t *planes, uint32_t count, uint32_t skip,
 								   pvs__po_wind *w) {
 	uint32_t j;
@@ -15701,7 +15730,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 }
 
 /* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle. Triangles join if they share
-   a vertex, or an edge's two positions that exactly two of them use, in opposite directions (mesh exported with split
+   a vertex, or an edge's two positions exactly two of them use, in opposite directions (mesh exported with split
    vertices; touching solids use such an edge four times, stay apart). 0 if out of memory. */
 PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
 							   pvs__po_wind *scratch, uint32_t *kept) {
@@ -15817,7 +15846,7 @@ PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *reg
 }
 
 /* Split plane for fragments f[0..n): among unused face planes (axial first, <= PVS__PO_CANDIDATES), best q3map2 score:
-   faces on it - splits - imbalance + axial bonus. PVS__PO_NONE if every face is on a splitter above (solid leaf). */
+   faces on it - splits - imbalance + axial bonus. PVS__PO_NONE if every face on a splitter above (solid leaf). */
 PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint32_t n) {
 	uint32_t cand[PVS__PO_CANDIDATES], nc = 0, pass, i, j, best = PVS__PO_NONE, most = PVS__PO_CANDIDATES;
 	long best_score = 0;
@@ -16046,7 +16075,7 @@ PVS__STATIC int pvs__po_csr(const pvs_allocator *a, const uint32_t *pairs, size_
 
 /* ---- portal flow ---- */
 
-/* Portal region seen from cell; planes bounding lines from cell through it (table-like: dist <= tol kept). */
+/* Portal region seen from cell; planes bounding lines from cell through it (as table: dist <= tol kept). */
 typedef struct pvs__po_win {
 	uint32_t nv, np;
 	double v[PVS__PO_MAXW][3];
@@ -16129,7 +16158,7 @@ typedef struct pvs__po_set {
 } pvs__po_set;
 
 /* Appends to w->pl planes bounding lines from convex set c through region w->v (Teller 1992 §5.2 separating ones):
-   through an edge of one and vertex of the other, c and w on opposite sides. A set meeting w has none. */
+   through an edge of one and vertex of other, c and w on opposite sides. A set meeting w has none. */
 PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps) {
 	uint32_t i, j;
 	for (i = 0; i < w->nv; ++i)
@@ -16164,7 +16193,7 @@ PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const pvs__po_wind *w, double e
 }
 
 /* Source of lines crossing portal q from its leaf `from`: cell box clipped to that leaf's side of q's plane, each
-   vertex on a clipped face. 0 if box is wholly on other side (no line from cell crosses q so). */
+   vertex on a clipped face. 0 if box wholly on other side (no line from cell crosses q so). */
 PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c) {
 	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
 										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
@@ -16564,7 +16593,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	if (!pvs__po_csr(al, pairs, p->portal_count, (uint32_t)p->leaf_count, &p->lp_first, &p->lp)) goto done;
 	p->ep_first = (uint32_t *)pvs__alloc_array(al, p->portal_count + 1, sizeof(uint32_t));
 	if (!p->ep_first) goto done;
-	for (p->ep_first[0] = 0, i = 0; i < p->portal_count; ++i) { /* steps counted in 64 bits: at most 2^32 - 1 */
+	for (p->ep_first[0] = 0, i = 0; i < p->portal_count; ++i) { /* steps counted in 64 bits: <= 2^32 - 1 */
 		uint64_t next = (uint64_t)p->ep_first[i] + p->lp_first[p->portals[i].to + 1] - p->lp_first[p->portals[i].to];
 		if (next + p->portal_count >= PVS__PO_NONE) goto done;
 		p->ep_first[i + 1] = (uint32_t)next;
@@ -16662,7 +16691,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 }
 
 /* AUTO's PORTAL price: class 0, +1 per PVS_AUTO_SAMPLE_CELLS / 4 of cells spread as AUTO's sample whose centre sees sky
-   (a ray up meets nothing): out of doors lines pass over every wall, the flow with them. */
+   (ray up meets nothing): out of doors lines pass over every wall, the flow with them. */
 PVS__STATIC int pvs__portal_price(const pvs_bake_desc *desc, const void *state) {
 	uint32_t s, S = PVS_AUTO_SAMPLE_CELLS, k, up = pvs_scene_up_axis(desc->scene);
 	int price = 0;
@@ -16882,18 +16911,18 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
 
 /* ---- extended projections (Durand et al. 2000) ---- */
 
-/* Rounding: double from float inputs. A plane's frame maps point to (u, v, w), w its Depth beyond cell's face (§2.3;
+/* Rounding: double from float inputs. Plane's frame maps point to (u, v, w), w its Depth beyond cell's face (§2.3;
    cell: w in [-extent, 0]). P's view from cell corner V on plane w = W: V + (P - V) (W - Vw) / (Pw - Vw), Pw > Vw
    (occluders clipped to w >= small margin; occludees wholly at w > 0). Convex occluder's Projection: 8 corner views
-   intersected (§3.2), pixel kept if its worst corner passes every edge by margin above all rounding; Depth: max w,
+   intersected (§3.2), pixel kept if its worst corner passes each edge by margin above all rounding; Depth: max w,
    rounded up (§2.3). Occludee box's Projection: views' bounding rectangle (§3.1), widened likewise; Depth: min w,
    rounded down. Hidden if every pixel there holds an occluder strictly nearer (§2.2; off-plane pixels are visible).
 
-   Bake (§6.1): occluders prepared once per bake; per cell and direction largest by solid angle go on PVS__EP_PLANES
+   Bake (§6.1): occluders prepared once per bake; per cell and direction, largest by solid angle go on PVS__EP_PLANES
    depth maps and, with sweep, extproj.sweep masks out to scene's far end (§5); then object kD-tree front to back,
-   hidden nodes skipped. Objects meeting cell are always visible.
+   hidden nodes skipped. Objects meeting cell always visible.
 
-   Limits: occluders fuse only via maps and slices; Depths flat per part; umbrae shrink by cell size over distance, so
+   Limits: occluders fuse only via maps and slices; Depths flat per part; umbrae shrink by cell size over distance:
    sparse small occluders (foliage) are loose; sub-cells (extproj.sweep_subcells) recover part (tests/BENCHMARKS.md). */
 
 #define PVS__EP_MAXP 16 /* vertices of one convex occluder */
@@ -17053,7 +17082,7 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 							pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) +
 								(pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
 								(pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
-			/* moving point by slack moves its view by <= slack (t + |view - V| / (Pw - Vw)) per axis */
+			/* moving a point by slack moves its view <= slack (t + |view - V| / (Pw - Vw)) per axis */
 			smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
 		}
 		/* vertex error in pixels: a few ulps of terms, widely, plus slack */
@@ -17299,8 +17328,8 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
 }
 
 /* Durand 2000 §4's improved occludee Projection on axis k, box between cell and plane (depths w0..w1 <= W). Cones go
-   to cell's near face (w = 0): inside cone(P, cell), so Property 2 holds: the 3D Projection is exactly the product of
-   2D ones. With [L(X), R(X)] X's views from face, I = [a, b] works iff a <= min R and b >= max L (over box corners): if
+   to cell's near face (w = 0): inside cone(P, cell), so Property 2 holds: 3D Projection is exactly the product of 2D
+   ones. With [L(X), R(X)] X's views from face, I = [a, b] works iff a <= min R and b >= max L (over box corners): if
    max L <= min R one point serves (*any = 1: one column must be hidden), else [min R, max L] (*any = 0: all). Indices
    may leave map. */
 PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W,
@@ -17372,8 +17401,8 @@ PVS__STATIC int pvs__ep_cap_ok(int side, int axis, float value, const pvs_box *c
 	return !(side > 0 && !(cell->min[axis] > value)) && !(side < 0 && !(cell->max[axis] < value));
 }
 
-/* Sheet: coplanar triangles (any objects) in plane x[axis] = value forming one convex polygon, no holes (a tiled
-   floor). From cell strictly on one side and over it, space beyond over polygon is solid: segments there cross it. */
+/* Sheet: coplanar triangles (any objects) in plane x[axis] = value forming one convex polygon, no holes (tiled floor).
+   From cell strictly on one side and over it, space beyond over polygon is solid: segments there cross it. */
 #define PVS__EP_MAX_SHEETS 16
 #define PVS__EP_AREA_CLASSES 8
 typedef struct pvs__epsheet {
@@ -17384,7 +17413,7 @@ typedef struct pvs__epsheet {
 } pvs__epsheet;
 
 /* Closed non-convex component sliced by planes (§3.3): one object's connected triangles, all edges of even use, or
-   "capped": odd ones in one plane, all vertices on one side (a building with no floor). */
+   "capped": odd ones in one plane, all vertices on one side (building with no floor). */
 typedef struct pvs__epslice {
 	pvs_box box;
 	uint32_t first, count; /* scene triangles prep->stri[first .. first + count) */
@@ -17505,7 +17534,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 			for (k = 0; k < 3; ++k)
 				scale = pvs__dmax(scale,
 								  pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
-			/* hull exceeds the two triangles by at most this: slack */
+			/* hull exceeds the two triangles by <= this: slack */
 			dev = pvs__dabs(pvs__ep_plane_dist(n, x, a0)) / len;
 			if (dev > 1e-6 * scale) return 0;
 			for (k = 0; k < 4; ++k) { /* strictly convex at each corner, turning like triangle */
@@ -17562,7 +17591,7 @@ PVS__STATIC int pvs__ep_end_cmp(const void *x, const void *y) {
 	return c ? c : a->edge < b->edge ? -1 : a->edge > b->edge;
 }
 
-/* Walks edges e[0 .. nb) as one loop from e[0].a into q; 0 if point is on > 2 edges or if 2+ loops. ends: 2 nb */
+/* Walks edges e[0 .. nb) as one loop from e[0].a into q; 0 if a point is on > 2 edges or 2+ loops. ends: 2 nb */
 PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, pvs__epend *ends) {
 	uint32_t i, m, edge = 0;
 	float cur[2];
@@ -17597,7 +17626,7 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
 /* Union of group's triangles as one convex polygon: boundary edges (odd use) in one loop turning once, with triangles'
    area (no overlap or hole). Fills q (CCW, no collinear points), returns size or 0. tol > 0: wrong turns under tol
    (relative) count as straight, q is loop's hull (hp, hh: qcap + 1 scratch; 0 past max_hull points), *dent deepest loop
-   point inside it. ends: 2 qcap. */
+   point in it. ends: 2 qcap. */
 PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep,
 										   uint32_t qcap, pvs__epend *ends, double tol, double (*hp)[2],
 										   double (*hh)[2], int max_hull, double *dent) {
@@ -17787,8 +17816,8 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
 	return 1;
 }
 
-/* 1 if all vertices are within float precision of largest triangle's plane. A flat closed mesh (two-sided wall) bounds
-   no volume: neither solid (its hull would fill windows) nor sliced. */
+/* 1 if all vertices within float precision of largest triangle's plane. Flat closed mesh (two-sided wall) bounds no
+   volume: neither solid (its hull would fill windows) nor sliced. */
 PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
 									   uint32_t n) {
 	uint32_t t, i, k, best = 0;
@@ -17819,7 +17848,7 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
 }
 
 /* Cap of component whose boundary edges (pairs in bnd) lie exactly in an axis plane x_k = c, all vertices on one side:
-   *side = +1 if solid is where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance. */
+   *side = +1 if solid where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance. */
 PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv,
 								 uint32_t nuv, int *axis, float *c, int *side) {
 	int k;
@@ -17880,7 +17909,7 @@ PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t 
 	return nb;
 }
 
-/* A planar group not forming one convex polygon becomes concave planar occluder (Durand 2000 §3.4, Fig. 7): boundary
+/* Planar group not forming one convex polygon becomes concave planar occluder (Durand 2000 §3.4, Fig. 7): boundary
    edges, plane (unit normal nr / lr, vertices within dev); its points (vertex hull) serve selection only. Past
    PVS__EP_CONCAVE_EDGES edges it stays in pieces. */
 PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
@@ -18340,7 +18369,7 @@ PVS__STATIC void pvs__ep_sheetwork_free(const pvs_allocator *a, pvs__epsheetwork
 	pvs__free_array(a, w->tarea, w->cap, sizeof(double));
 }
 
-/* 0 if out of memory (what was allocated stays in w). */
+/* 0 if out of memory (allocations stay in w). */
 PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwork *w, size_t cap) {
 	if (cap <= w->cap) return 1;
 	pvs__ep_sheetwork_free(a, w);
@@ -18588,7 +18617,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_sc
 	return PVS_OK;
 }
 
-/* Scene volumes: BOX is convex solid, EXTRUSION's walls quads; CONVEX ones are left out (conservative). */
+/* Scene volumes: BOX is convex solid, EXTRUSION's walls quads; CONVEX ones left out (conservative). */
 PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *s) {
 	uint32_t o, i;
 	for (o = 0; o < s->occluder_count; ++o) {
@@ -18877,8 +18906,8 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
 
 /* Section of closed (or capped) component by plane w = W (Durand 2000 §3.3): pixels inside by parity, at margin from
    every segment, get Depth W. Conservative: cell point V is outside solid (cell outside its box), section point X
-   inside, so V-X crosses surface an odd # of times, never cap (both strictly on its solid side): it hits a triangle
-   nearer than W. Vertices on plane count as beyond it (symbolic perturbation), so segments agree. */
+   inside, so V-X crosses surface an odd # of times, never cap (both strictly on its solid side): hits a triangle nearer
+   than W. Vertices on plane count as beyond it (symbolic perturbation): segments agree. */
 PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
 								   const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
 	double mag = 0.0;
@@ -18906,7 +18935,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
 	int32_t i0, i1, j0, j1, j;
 	uint32_t written = 0, e;
 	float depth = pvs__f_up(f->W);
-	if (k == f->a) return 0; /* parallel plane needs polygon fill; gains little */
+	if (k == f->a) return 0; /* parallel plane needs polygon fill; little gain */
 	/* polygon's extent along line x[a] = pos */
 	for (e = 0; e < S->count; ++e) {
 		const float *A = poly + 2 * e, *B = poly + 2 * ((e + 1) % S->count);
@@ -19129,8 +19158,8 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 
 /* Projection of concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of plane or, unless front_only,
    behind it. As cell point moves, a line's crossing with P's plane leaves P only through its boundary, so pixel X is
-   covered if (1) it is outside every boundary edge's penumbra (cmark) and (2) line from cell's centre through X crosses
-   P; one test per unmarked run of a row. Depth: farthest vertex plus slack. */
+   covered if (1) outside every boundary edge's penumbra (cmark) and (2) line from cell's centre through X crosses P;
+   one test per unmarked run of a row. Depth: farthest vertex plus slack. */
 PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o,
 									 int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
 	const pvs__epframe f = *fp;
@@ -19150,7 +19179,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 		for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs(E[3 * e + c]));
 	}
 	if (!(wmin - slack > margin)) {
-		/* reaching past cell's face (wall beside cell): its part at w >= margin, exact input only */
+		/* reaching past cell's face (wall beside cell): part at w >= margin, exact input only */
 		if (slack > 0.0 || !(wmax > margin)) return 0;
 		n = pvs__ep_clip_concave(&f, o, E, n, margin, 1);
 		if (n < 3) return 0;
@@ -19258,7 +19287,7 @@ PVS__STATIC int pvs__ep_open_at(const pvs__ep_pyr *p, uint32_t l, uint32_t tx, u
 	return 0;
 }
 
-/* 1 if some pixel of rect r is open or off plane: from finest level where r spans 2 x 2 texels. */
+/* 1 if a pixel of rect r is open or off plane: from finest level where r spans 2 x 2 texels. */
 PVS__STATIC int pvs__ep_open(const pvs__ep_pyr *p, const pvs_extproj_plane *plane, uint32_t levels, const int32_t *r) {
 	uint32_t l = 0, tx, ty;
 	if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)plane->width || r[3] >= (int32_t)plane->height) return 1;
@@ -19282,10 +19311,10 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
 	return pvs__ep_open(&p, &m->plane, m->levels, r);
 }
 
-/* Sweep plane (§5): mask (1 = every ray from cell through pixel is blocked before plane) and its AND pyramid. With
+/* Sweep plane (§5): mask (1 = every ray from cell through pixel blocked before plane) and its AND pyramid. With
    sub-cells (nsub = 4) bit j says so for quarter j of cell (halved across direction on u: bit 0, v: bit 1; frame
-   sub[j]): their umbrae together are wider than the cell's; an object is hidden if hidden from each. frame.bits: all
-   four (slices block every ray). nsub = 0: bit 1. */
+   sub[j]): their umbrae together are wider than the cell's; object hidden if hidden from each. frame.bits: all four
+   (slices block every ray). nsub = 0: bit 1. */
 #define PVS__EP_MAX_SUB 4
 typedef struct pvs__epmask {
 	pvs_extproj_plane plane;
@@ -19387,9 +19416,9 @@ typedef struct pvs__epparams {
 	uint32_t coarse; /* 1 (PVS_BAKE_PREVIEW): object nodes decided whole (pvs__ep_visit) */
 } pvs__epparams;
 
-/* Preview's coarse test (PVS_BAKE_PREVIEW): a node subtending < PVS__EP_COARSE_ANGLE (diagonal over distance plus cell
-   diagonal; ~4 pixels of a 64-pixel plane) is decided whole; past PVS__EP_COARSE_TESTS box tests all are kept. Such
-   nodes number ~log(scene / cell) / angle^2 at any scene size. Only hidden boxes are dropped. */
+/* Preview's coarse test (PVS_BAKE_PREVIEW): node subtending < PVS__EP_COARSE_ANGLE (diagonal over distance plus cell
+   diagonal; ~4 pixels of a 64-pixel plane) is decided whole; past PVS__EP_COARSE_TESTS box tests all kept. Such nodes
+   number ~log(scene / cell) / angle^2 at any scene size. Only hidden boxes are dropped. */
 #define PVS__EP_COARSE_ANGLE 0.25
 #define PVS__EP_COARSE_TESTS 4096u
 
@@ -19406,9 +19435,9 @@ typedef struct pvs__epcell {
 	uint32_t tests; /*   box tests so far */
 } pvs__epcell;
 
-/* 1 if a box between cell and plane (depths w0 > 0 .. w1 <= W) is hidden by §4's improved Projection: some point of
-   each "any" axis range and all of each "all" range hold occluders strictly nearer than w0. Property 1 needs them
-   convex or planar: Projections and reprojected maps are; slices (Depth W) never pass a front box's depth test. */
+/* 1 if box between cell and plane (depths w0 > 0 .. w1 <= W) is hidden by §4's improved Projection: a point of each
+   "any" axis range and all of each "all" range hold occluders strictly nearer than w0. Property 1 needs them convex or
+   planar: Projections and reprojected maps are; slices (Depth W) never pass a front box's depth test. */
 PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, double w0, double w1) {
 	const pvs__epframe *f = &m->frame;
 	int32_t ru[2], rv[2], r[4], i, j;
@@ -19448,8 +19477,8 @@ PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
 	return 1;
 }
 
-/* 1 if box is hidden from whole cell (never if meeting it): on §6.1's planes by §3.1 behind, §4 in front, both parts
-   if straddling; on the sweep's by last two planes before it. */
+/* 1 if box hidden from whole cell (never if meeting it): on §6.1's planes by §3.1 behind, §4 in front, both parts if
+   straddling; on the sweep's by last two planes before it. */
 PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
 	int d;
 	if (pvs__box_overlap(b, &c->cell)) return 0;
@@ -19495,9 +19524,9 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
 	return 0;
 }
 
-/* 1 if some part of object o inside b (its box cut by a leaf) may be seen: ranges of its triangles in file order, their
+/* 1 if a part of object o inside b (its box cut by a leaf) may be seen: ranges of its triangles in file order, their
    boxes (of points inside b) tested top-down (Durand 2000 §2.4, §6.1), hidden skipped, visible halved. Pays only with
-   sweeps (a tree's box is mostly air). Large objects or runs (PVS__EP_PARTS_TRIS, PVS__EP_PARTS_TESTS) are kept. */
+   sweeps (a tree's box is mostly air). Large objects or runs (PVS__EP_PARTS_TRIS, PVS__EP_PARTS_TESTS) kept. */
 #define PVS__EP_PARTS_TRIS 16384u
 #define PVS__EP_PARTS_TESTS 256u
 PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box *b) {
@@ -19533,8 +19562,8 @@ PVS__STATIC int pvs__ep_wanted(const pvs__epcell *c, uint32_t o) {
 	return !c->candidates || pvs_bitset_test(c->candidates, o);
 }
 
-/* §6.1: occludees top-down through object kD-tree, hidden nodes skipped; an object is visible if its box cut by a leaf
-   is (sweep: pvs__ep_parts_visible). Coarse: PVS__EP_COARSE_ANGLE. */
+/* §6.1: occludees top-down through object kD-tree, hidden nodes skipped; object visible if its box cut by a leaf is
+   (sweep: pvs__ep_parts_visible). Coarse: PVS__EP_COARSE_ANGLE. */
 PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 									uint32_t count) {
 	pvs__epcell *c = (pvs__epcell *)user;
@@ -19669,9 +19698,9 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
 
 /* Fits sweep plane (§5) to span of cell and scene's bounds per axis (plus a sliver), spreading a res x res map's
    pixels over it as ~square pixels within `room` with `levels`; pixels outside count as open. Nothing that could hide
-   is lost: masks are read only by occludees beyond them (§3.1) and by reprojection farther out (§5.1), and rays from
-   cell to points beyond cross plane inside span, which holds the cell's (as pvs__epslab needs). §6.1's planes are not
-   fitted: §4 often hides by pixels outside span. */
+   is lost: only occludees beyond (§3.1) and reprojection farther out (§5.1) read masks, and rays from cell to points
+   beyond cross plane inside span, which holds the cell's (as pvs__epslab needs). §6.1's planes are not fitted: §4
+   often hides by pixels outside span. */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels,
 								   size_t room, pvs_extproj_plane *pl) {
 	int a = (int)pl->axis, k;
@@ -19778,7 +19807,7 @@ PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__ep
 }
 
 /* Selection (§6.1): per direction n occluders of largest solid angle from cell's centre beyond face, by (score, lower
-   index): a total order, visit-order free; those whose bound (area / distance^2) cannot enter heap are skipped. */
+   index): total order, visit-order free; those whose bound (area / distance^2) cannot enter heap are skipped. */
 typedef struct pvs__epselect {
 	const pvs_scene *scene;
 	const pvs__extproj_prep *p;
@@ -19920,7 +19949,7 @@ PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__e
 	return p->pts + 3 * (size_t)o->first;
 }
 
-/* Per sheet: +1 (-1) if cell is strictly on its positive (negative) side over its polygon, else 0. */
+/* Per sheet: +1 (-1) if cell strictly on its positive (negative) side over its polygon, else 0. */
 PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *cell, int *side) {
 	uint32_t i;
 	for (i = 0; i < p->sheet_count; ++i) {
@@ -19936,7 +19965,7 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
 }
 
 /* §6.1's planes for direction d: one just behind farthest selected occluder (behind an occluder any plane is
-   equivalent, §7.3; in front it loses it to its penumbra), others per distance band (far / r^q, far / r^(q-1)], r =
+   equivalent, §7.3; in front it loses it to penumbra), others per distance band (far / r^q, far / r^(q-1)], r =
    PVS__EP_PLANE_RATIO, behind band's occluder filling most pixels, for nearer occludees and fusion (Fig. 16). */
 PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 									   const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
@@ -19992,9 +20021,9 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
 }
 
 /* §5.1 reprojection: marks in `to` (farther than `from`) pixels whose every ray from cell crosses blocked pixels of
-   `from`: an umbra inside that of occluders before `from` (Appendix B), so conservative. Kernel: the true cell's per
-   row and column (pvs__ep_reproject_axis); a summed-area table of from's open pixels decides. Sub-cell j: own kernel
-   and sat_split lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
+   `from`: an umbra inside that of occluders before `from` (Appendix B), so conservative. Kernel: true cell's per row
+   and column (pvs__ep_reproject_axis); summed-area table of from's open pixels decides. Sub-cell j: own kernel and
+   sat_split lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
 PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split,
 									   pvs__epmask *to, int32_t *ranges, uint32_t j) {
 	unsigned char *mask = to->lv[0];
@@ -20078,7 +20107,7 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
 }
 
 /* §5.1 reprojection onto plane `count` from planes 1, 2, 4, 8, ... back (Appendix B: each one's blocked pixels lie in
-   the umbra of occluders before it). Each reprojection loses up to a pixel per side to rounding (cell is a box, not the
+   umbra of occluders before it). Each reprojection loses up to a pixel per side to rounding (cell is a box, not the
    paper's planar equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j to k.
    `cached` (never with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
 PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat,
@@ -20148,11 +20177,11 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
 }
 
 /* §5's occlusion sweep for direction d: planes from one cell size C ahead (or behind nearest selected occluder, if
-   farther) to scene's far end, each holding reprojected earlier planes (§5.1), Projections of occluders since previous
+   farther) to scene's far end, each with reprojected earlier planes (§5.1), Projections of occluders since previous
    plane and slices it cuts; count to *planes. Unlike §5.2 (tests/BENCHMARKS.md, extproj): geometric spacing, as dD = D
    (K - 1) P / (C N) crowds planes near cell, where small umbrae are short, leaving few far out, where gaps between
    small occluders close; none nearer than C: an occluder of width s < C / 2 at w casts an umbra ending before w C / (C
-   - s) < 2 w (nearer occluders still reach first plane); the far end (scene's: §6.1 favours near occluders) holds no
+   - s) < 2 w (nearer occluders still reach first plane); far end (scene's: §6.1 favours near occluders) holds no
    plane. */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 											const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
@@ -20407,12 +20436,12 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {
 /* ---- the 2.5D path: per-sample occlusion horizons ----
 
 Wonka 2000 §2.1: a cell's PVS is the union of its samples'. Per sample, an occlusion horizon over PVS__HZ_BINS angular
-bins around eye (height H): a facade of height T at ground distance dc hides a point at distance r > dc, height z if (z
-- H) / r < (T - H) / dc. A bin one chain of shrunk facades covers wholly (shared corners: no crack) is crossed by all
+bins around eye (height H): a facade of height T at ground distance dc hides a point at distance r > dc, height z if
+(z - H) / r < (T - H) / dc. A bin one chain of shrunk facades covers wholly (shared corners: no crack) is crossed by all
 its rays between dmin and dmax, so beyond dmax it hides below slope (T - H) / dmax (T >= H) or (T - H) / dmin (T < H);
-per bin a staircase of (distance, slope) steps keeps the best. A box is hidden if every bin its ground rectangle touches
-has, at its least distance, a slope above its steepest sight line. Occluders go front to back, occluded ones skipped
-(§3.4). Angles are bin-exact, the rest rounded safe. */
+per bin a staircase of (distance, slope) steps keeps the best. A box is hidden if every bin its ground rectangle
+touches has, at its least distance, a slope above its steepest sight line. Occluders front to back, occluded ones
+skipped (§3.4). Angles bin-exact, the rest rounded safe. */
 
 /* 0.23 degree bins; finer, eps / 2 columns, more steps, per-triangle tests: no gain (tests/BENCHMARKS.md, shrink). */
 #define PVS__HZ_BINS 1536
@@ -20495,7 +20524,7 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 		if (lo < z->dmin[b]) z->dmin[b] = lo;
 	}
 	if (a0 <= pvs__hz_lo(z, b) && a1 >= pvs__hz_hi(z, b)) z->full[b] = 1;
-	else if (!z->full[b]) { /* up to 4 disjoint covered intervals, merged where they meet */
+	else if (!z->full[b]) { /* <= 4 disjoint covered intervals, merged where they meet */
 		uint32_t i, n = z->npart[b];
 		double *L = z->plo[b], *R = z->phi[b];
 		for (i = 0; i < n;) {
@@ -20524,7 +20553,7 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, d1;
 	int32_t b0, b1, k;
-	/* eye-relative, swapped (p to q counter-clockwise if seen from outside) */
+	/* eye-relative, swapped (p to q counter-clockwise seen from outside) */
 	q[0] = pf[0] - z->eu; q[1] = pf[1] - z->ev;
 	p[0] = qf[0] - z->eu; p[1] = qf[1] - z->ev;
 	cr = q[0] * p[1] - q[1] * p[0];
@@ -20578,7 +20607,7 @@ PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
 }
 
 /* Bins [*b0, *b1] (b1 >= BINS if wrapping) and ground distances *dmin, *dmax from eye of rectangle u0..u1, v0..v1; 0 if
-   eye is in or on it. Span runs counter-clockwise between silhouette corners. */
+   eye in or on it. Span runs counter-clockwise between silhouette corners. */
 PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1,
 							 double *dmin, double *dmax) {
 	/* corners where rectangle starts and ends counter-clockwise, by region 3 rx + ry: bits 3, 2 (start) and 1, 0 (end)
@@ -20650,7 +20679,7 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
 		near_a = pvs__hz_angle(nx, ny);
 	}
 	{
-		/* bins interleaved (every 8th first): finds a visible box's open run early */
+		/* bins interleaved (every 8th first): finds visible box's open run early */
 		static const int32_t order[8] = {0, 4, 2, 6, 1, 5, 3, 7};
 		int32_t o8;
 		for (o8 = 0; o8 < 8; ++o8)
@@ -20710,7 +20739,7 @@ typedef struct pvs__shrink_walk {
 } pvs__shrink_walk;
 #define PVS__SHRINK_NEAR 0 /* objects meeting cell or under its top face: visible unsampled */
 #define PVS__SHRINK_SAMPLE 1 /* a sample's objects, nodes hidden from it (§3.4) or all found skipped */
-#define PVS__SHRINK_HORIZON 2 /* sample's horizon: chains, nearer child first, hidden ones skipped (§3.4) */
+#define PVS__SHRINK_HORIZON 2 /* sample's horizon: chains, nearer child first, hidden skipped (§3.4) */
 
 PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
 	double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])),
@@ -20762,12 +20791,12 @@ PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *
 	}
 }
 
-/* §3: "sample points need only be placed on the edges of the top of the view cells". For a heightfield occluder O and
-   a point P outside cell's footprint R, say V on top face (height H) sees P. In vertical plane through P and V the
-   ground segment crosses R's boundary at W'. If P is not above H, P-W' lies above P-V, so W' sees P; else moving V away
-   from P to boundary point W keeps P-W above P-V up to V and above H beyond, where no column of O in R reaches. With O
-   the shrunk occluder's eps-neighbourhood (no real sight line enters it), edges decide if no column within eps of R
-   rises above H - eps (with appendix's theorem). */
+/* §3: "sample points need only be placed on the edges of the top of the view cells". Heightfield occluder O, point P
+   outside cell's footprint R, V on top face (height H) seeing P. In the vertical plane through P, V the ground segment
+   crosses R's boundary at W'. If P is not above H, P-W' lies above P-V: W' sees P; else V moved away from P to boundary
+   point W: P-W stays above P-V up to V, above H beyond, where no column of O in R reaches. With O the shrunk occluder's
+   eps-neighbourhood (no real sight line enters it), edges decide if no column within eps of R rises above H - eps (with
+   appendix's theorem). */
 PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
 	const pvs__vx_cols *cm = &o->cols;
 	uint32_t i0, i1, j0, j1, i, j;
@@ -20821,7 +20850,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 	if (o->bvh.node_count) {
 		uint32_t ob;
 		memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
-		/* objects set on entry: off counts, so nodes holding only them are skipped */
+		/* objects set on entry: off counts, so nodes holding only them skipped */
 		for (ob = pvs_bitset_next(visible, s->object_count, 0); ob < s->object_count;
 			 ob = pvs_bitset_next(visible, s->object_count, ob + 1))
 			pvs__shrink_found(&w, ob);
@@ -20935,7 +20964,7 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
 	for (i = 0; i < nb; ++i) {
 		double dn, df;
 		if (!pvs__shrink_in_view(o->boxes + i, p, dax, dir & 1, &dn, &df) || dn > far) continue;
-		/* a box whose image misses candidates' (a few pixels' margin) covers no pixel they read */
+		/* box whose image misses candidates' (a few pixels' margin) covers no pixel they read */
 		if (bounded && pvs__shrink_view_rect(o->boxes + i, p, dax, dn, df, brect) &&
 			(brect[0] > crect[2] + 0.1 || brect[2] < crect[0] - 0.1 || brect[1] > crect[3] + 0.1 ||
 			 brect[3] < crect[1] - 0.1))
@@ -20987,7 +21016,7 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
 }
 
 /* The 3D path (§2.1, 2.3): samples on cell's six faces at spacing <= eps sqrt(2) (sight lines from inside leave
-   through boundary, all within eps of a sample), each a cube of six depth maps of eroded boxes; PVS is their union.
+   through boundary, all within eps of a sample), each a cube of six depth maps of eroded boxes; PVS: their union.
    Objects within twice near distance are set (cube sees nothing nearer than its near plane). */
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
 									  pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
@@ -21074,7 +21103,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 	st.mode = mode;
 	st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
 	{
-		/* a leaking cell synthesis left out (or a box in one): solid is proved for others only */
+		/* leaking cell synthesis left out (or a box in one): solid is proved for others only */
 		uint32_t i;
 		int k;
 		for (i = 0; i < o->info.excluded_cells && !st.excluded; ++i) {
@@ -21239,7 +21268,7 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 }
 
 /* AUTO's price of SHRINK: a depth cube per sample point on cell's faces (pvs__shrink_face): class 3 for a mean of 294
-   points (a cube of side 8 eps), +1 per doubling. */
+   points (cube of side 8 eps), +1 per doubling. */
 PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc, const void *state) {
 	pvs_box sb = pvs_scene_bounds(desc->scene);
 	double points = 0.0, ref = 2.0 * 294.0 * desc->cell_count, n[3], eps = desc->eps;
@@ -21345,7 +21374,7 @@ PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *ro
 	return row->prepare(&b->env, desc, &b->state[row->method], err);
 }
 
-/* Candidates of box's k-th method: its own (a sub-cell's parent PVS, or NULL), from second on narrowed to what earlier
+/* Candidates of box's k-th method: its own (sub-cell's parent PVS, or NULL), from second on narrowed to what earlier
    ones kept (AUTO runs SHRINK last). In *scratch if computed. */
 PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const pvs_word *candidates,
 											const pvs_word *each, pvs_word *scratch) {
@@ -21533,10 +21562,10 @@ PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, co
 }
 
 /* AUTO: `mask`'s methods, cheapest first, each prepared, kept if it can cull here; PREVIEW stops at first kept;
-   UNSUPPORTED ones skipped (reason kept). Cheapest: cost_rank's order, or with sample (sb) pvs__bake_price's. Then each
-   kept method bakes sd's cells into sb (per cell slots: run[k]'s PVS, U their intersection, R what rays aimed at U
+   UNSUPPORTED ones skipped (reason kept). Cheapest: cost_rank's order, or with sample (sb) pvs__bake_price's. Each kept
+   method then bakes sd's cells into sb (per cell slots: run[k]'s PVS, U their intersection, R what rays aimed at U
    prove visible, greedy choice's); one priced d classes above cheapest kept is not prepared if PVS_AUTO_MIN_GAIN 2^d of
-   U passes U - R (no method culls R; without a sample R is empty). */
+   U passes U - R (no method culls R; no sample: R empty). */
 #define PVS__SAMPLE_SLOTS (PVS_METHOD_COUNT + 3)
 PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, const pvs_bake_desc *sd,
 										uint32_t mask, pvs_word *sb, pvs_error *err) {
@@ -21602,10 +21631,10 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 	return PVS_OK;
 }
 
-/* AUTO's sample (CONCEPTS, Methods): applicable methods are prepared for PVS_AUTO_SAMPLE_CELLS cells spread over all
-   cells (a shard's too: shards decide alike), each baking them alone. Greedily, smallest PVS's method is kept (ties:
-   cheaper), then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it, doubled per class
-   (pvs__bake_price) above first kept's, halved below. The kept are prepared for every cell. */
+/* AUTO's sample (CONCEPTS, Methods): applicable methods prepared for PVS_AUTO_SAMPLE_CELLS cells spread over all cells
+   (a shard's too: shards decide alike), each baking them alone. Greedily, smallest PVS's method kept (ties: cheaper),
+   then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it, doubled per class (pvs__bake_price)
+   above first kept's, halved below. The kept are prepared for every cell. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
@@ -22878,11 +22907,11 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
 	return b > 0xffffffffu ? 0xffffffffu : (uint32_t)b;
 }
 
-/* Bases: edges from each cell to its nearest (kD-tree sweep), virtual root joined to all at their key size; Prim's tree
-   from root, edge weighed on reach by delta's coded size plus lambda per level of its base's depth, taken only while
-   its chain stays within K (greedy depth-bounded minimum arborescence); root's children are keys. Greedy chains run
-   deep and leave later cells baseless; depth price keeps them short: of lambda 0, 2, 4, 8 bytes tree of smallest coded
-   sizes wins (ties: lower). Coded sizes cached on edges. Deterministic ties: (weight, cell, base). */
+/* Bases: edges from each cell to its nearest (kD-tree sweep), virtual root joined to all at key size; Prim's tree from
+   root, edge weighed on reach by delta's coded size plus lambda per level of its base's depth, taken only while its
+   chain stays within K (greedy depth-bounded minimum arborescence); root's children are keys. Greedy chains run deep,
+   leaving later cells baseless; depth price keeps them short: of lambda 0, 2, 4, 8 bytes, tree of smallest coded sizes
+   wins (ties: lower). Coded sizes cached on edges. Deterministic ties: (weight, cell, base). */
 PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size);
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
 	const pvs_allocator *a = &e->a;
@@ -23250,7 +23279,7 @@ PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t fl
 	pvs__put32(o + 20, crc);
 }
 
-/* NAME's size (FILE FORMAT), 0 without names, SIZE_MAX if its offsets would pass 4 GiB. */
+/* NAME's size (FILE FORMAT), 0 without names, SIZE_MAX if offsets would pass 4 GiB. */
 PVS__STATIC size_t pvs__names_size(const pvs_file_desc *d) {
 	size_t n = 4 + 4 * (size_t)d->object_count, i;
 	if (!d->object_names) return 0;
@@ -24125,6 +24154,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
+   0.9.7 (2026-11-29) raster: AVX2 chosen at run time (GCC, Clang), PVS_RASTER_SSE2, pvs_raster_path.
    0.9.6 (2026-11-29) PORTAL 15-30% faster: each source edge once.
    0.9.5 (2026-11-29) pvs_raster_mesh 5x faster: prefiltered pieces.
    0.9.4 (2026-11-29) pvs_raster_bin, pvs_raster_draw_band: a frame on several threads.

@@ -1729,11 +1729,72 @@ static void test_threads(void) {
     free(tris); free(wide); free(idx);
 }
 
+/* The paths agree bit for bit (issue 31): the best one (AVX2 where the CPU has it), PVS_RASTER_SSE2 and
+   PVS_RASTER_SCALAR draw the same maps (per pixel and tiled; triangles, back faces culled, meshes; occludees) and
+   classify the same boxes; pvs_raster_path names each. */
+static void test_paths(void) {
+    enum { W = 97, H = 61, N = 600, NO = 450, NB = 400 };
+    static const uint32_t flags[3] = {0, PVS_RASTER_SSE2, PVS_RASTER_SCALAR};
+    pvs_raster_desc rd;
+    pvs_raster *r[3];
+    pvs_box *boxes = (pvs_box *)malloc(NB * sizeof(pvs_box));
+    float *tris = (float *)malloc(N * 9 * sizeof(float)), m[16];
+    uint32_t cfg, p, k, t, seen = 0, hidden = 0, drawn = 0;
+    int same = 1;
+    for (cfg = 0; cfg < 12; ++cfg) {
+        memset(&rd, 0, sizeof(rd));
+        rd.width = W; rd.height = H;
+        for (p = 0; p < 3; ++p) {
+            rd.flags = flags[p] | (cfg & 1 ? PVS_RASTER_TILED : PVS_RASTER_PER_PIXEL);
+            CHECK(pvs_raster_create(&rd, &r[p], NULL) == PVS_OK);
+        }
+        CHECK(!strcmp(pvs_raster_path(r[2]), "scalar"));
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(PVS_NO_SIMD)
+        CHECK(!strcmp(pvs_raster_path(r[0]), __builtin_cpu_supports("avx2") ? "avx2" : "sse2"));
+        CHECK(!strcmp(pvs_raster_path(r[1]), "sse2") || !strcmp(pvs_raster_path(r[1]), "avx2")); /* -mavx2: both */
+#endif
+        random_matrix(m, (float)W / H, (int)cfg % 3);
+        for (t = 0; t < N; ++t) random_triangle(tris + 9 * t, (int)(t % 5));
+        for (k = 0; k < NB; ++k) {
+            float h = rndf(0.01f, 2.0f);
+            for (t = 0; t < 3; ++t) {
+                boxes[k].min[t] = rndf(-8, 8);
+                boxes[k].max[t] = boxes[k].min[t] + h;
+            }
+        }
+        for (p = 0; p < 3; ++p) {
+            pvs_raster_draw_desc d = {tris, 0, 3 * NO, NULL, NO, PVS_RASTER_OCCLUDER, 0};
+            d.flags = cfg & 2 ? PVS_DRAW_MESH : cfg & 4 ? PVS_DRAW_CULL_CW : 0;
+            pvs_raster_clear(r[p]);
+            CHECK(pvs_raster_set_matrix(r[p], m) == PVS_OK);
+            CHECK(pvs_raster_draw(r[p], &d) == PVS_OK);
+            if (cfg >= 8) { /* and occludees */
+                d.positions = tris + 9 * NO, d.vertex_count = d.triangle_count = N - NO, d.indices = NULL;
+                d.vertex_count *= 3, d.mode = PVS_RASTER_OCCLUDEE, d.flags = 0;
+                CHECK(pvs_raster_draw(r[p], &d) == PVS_OK);
+            }
+        }
+        for (p = 1; p < 3; ++p)
+            same &= !memcmp(pvs_raster_depth(r[0], NULL, NULL), pvs_raster_depth(r[p], NULL, NULL), W * H * sizeof(float));
+        for (k = 0; k < W * H; ++k) drawn += pvs_raster_depth(r[0], NULL, NULL)[k] != PVS_DEPTH_EMPTY;
+        for (k = 0; k < NB; ++k) {
+            int c = pvs_raster_classify_box(r[0], boxes + k);
+            seen += c == PVS_BOX_VISIBLE, hidden += c == PVS_BOX_OCCLUDED;
+            for (p = 1; p < 3; ++p) same &= pvs_raster_classify_box(r[p], boxes + k) == c;
+        }
+        for (p = 0; p < 3; ++p) pvs_raster_destroy(r[p]);
+    }
+    CHECK(same);
+    CHECK(drawn > 1000 && seen > 100 && hidden > 100); /* not vacuous */
+    free(tris); free(boxes);
+}
+
 void test_raster(void);
 void test_raster(void) {
     raster_verify(1);
     test_mesh_crack();
     test_draw_options();
+    test_paths();
     test_threads();
     test_cull_units();
     test_noalloc_and_errors();
