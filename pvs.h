@@ -5039,8 +5039,8 @@ PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
 }
 
 /* One mesh piece: triangles r->morder[0 .. r->mcn). */
-PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
-								 const pvs__occsel *tris) {
+PVS__STATIC int pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
+								const pvs__occsel *tris) {
 	uint32_t hs = 16, t, h, n = r->mcn;
 	while (hs < 6 * n && hs < r->mesh_hash) hs <<= 1;
 	for (h = 0; h < hs; ++h) r->mtab[h] = 0;
@@ -5053,7 +5053,10 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
 	pvs__mesh_internal(r, n);
 	pvs__mesh_draw(r, n, 1);
 	pvs__mesh_draw(r, n, -1);
+	return 0;
 }
+PVS__TWIN(int, pvs__mesh_piece, (pvs_raster *r, const float *p, uint32_t vc, const uint32_t *ix, const pvs__occsel *t),
+		  (r, p, vc, ix, t))
 
 /* Occluder meshes (`indices` NULL: vertices in order): drawn as triangles, then in pieces of mesh_cap. */
 PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
@@ -5070,7 +5073,7 @@ PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const u
 			t = pvs__raster_occluders(r, pos, vc, r->vstride, indices, tris, t, count, r->cull, 0,
 									  PVS_RASTER_PARTS + 1);
 		for (; !r->tiled && t < count && r->mcn < r->mesh_cap; ++t) r->morder[r->mcn++] = t;
-		pvs__mesh_piece(r, pos, vc, indices, tris);
+		PVS__ISA(r, pvs__mesh_piece, (r, pos, vc, indices, tris));
 	}
 	r->pyramid_valid = 0;
 }
@@ -6780,8 +6783,8 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	out->n = m;
 	return m;
 }
-/* 2.5D witness lines: read-only test reaching out-leaf keeps a line in its polygon (normalised vertex sum); out-leaves
-   only become in-leaves: witness later in an in-leaf is dropped. */
+/* 2.5D witness lines: read-only test reaching out-leaf keeps line in its polygon (normalised vertex sum); out-leaves
+   only become in-leaves: a witness later in an in-leaf is dropped. */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	double w[3] = {0, 0, 0}, len;
 	int i;
@@ -6812,7 +6815,7 @@ PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode
 	return 0;
 }
 
-/* Insertion at inner node (§3.3.3) on top item, in place: edges on node's plane marked (§4.10.1), polygon goes to a
+/* Insertion at inner node (§3.3.3) on top item, in place: edges on node's plane marked (§4.10.1), polygon goes to
    child or splits; child whose subtree hides occluder (2.5D, near >= 0) gets nothing. 2.5D descends one-sided nodes
    here, to leaf or hidden subtree. */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
@@ -6851,7 +6854,7 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		for (i = 0; i < 3; ++i) nf[i] = -nd->n[i];
 		na = h1 ? 0 : pvs__ot_clip_n(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
 		nb = h0 ? 0 : pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 2));
-		/* items top..: c1's part, then c0's, as two pushes; unused slots above (still a permutation) */
+		/* items top..: c1's part, then c0's, as two pushes; unused slots above (still permutation) */
 		s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
 		if (na >= 3) { t->stack_slot[m] = s1; t->stack_node[m] = c1; t->stack_pend[m] = PVS__OT_NONE; ++m; }
 		if (nb >= 3) { t->stack_slot[m] = s2; t->stack_node[m] = c0; t->stack_pend[m] = PVS__OT_NONE; ++m; }
@@ -6863,8 +6866,8 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 }
 
 /* Read-only test at inner node (§3.3.4) on top item, in place: polygon within 1e-12 of plane on one side (edge on it)
-   goes there, else each side gets its part widened by 1e-12. 1 if surely visible (2.5D: straddled child is out-leaf) or
-   OOM (caller counts visible). */
+   goes there, else each side gets part widened by 1e-12. 1 if surely visible (2.5D: straddled child out-leaf) or OOM
+   (caller counts visible). */
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q;
 	const pvs__otnode *nd;
@@ -6895,8 +6898,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 		t->stack_node[top] = c;
 		if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return 0;
 	}
-	/* 2.5D (no sliver rule): both parts hold a vertex strictly off plane: out-leaf child answers at once; its part's
-	   line becomes witness (pvs__ot25_witnessed) */
+	/* 2.5D (no sliver rule): both parts hold vertex strictly off plane: out-leaf child answers at once; its part's line
+	   becomes witness (pvs__ot25_witnessed) */
 	if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
 		int out1 = t->nodes[c1].kind == PVS__OT_OUT;
 		for (i = 0; i < 3; ++i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
@@ -7075,9 +7078,9 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 	return 1;
 }
 
-/* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k is clearly in front of j, clearly
-   behind. Neither: ties (lines through X or shared end), vertex lines missing a segment (outside leaf by rounding
-   sliver: q clipped with slack). */
+/* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k clearly in front of j, clearly
+   behind. Neither: ties (lines through X or shared end), vertex lines missing segment (outside leaf by rounding sliver:
+   q clipped with slack). */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk,
 							   int *front, int *behind) {
 	int i, have_x;
@@ -7167,7 +7170,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 		pvs__otpoly q;
 		uint32_t node = t->stack_node[t->stack_count - 1];
 		pvs__otnode *nd = t->nodes + node;
-		/* §6.5.5: every line here meets a stored occluder nearer any cell point than k */
+		/* §6.5.5: every line here meets stored occluder nearer any cell point than k */
 		if (near > nd->mvd) { --t->stack_count; continue; }
 		if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, -1.0, 0.0); continue; }
 		pvs__ot_pop(t, &q);
@@ -7316,7 +7319,7 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 }
 
 /* Max visibility distances (§6.5.5), bottom-up, backward pass (children follow parents): out-leaves unbounded,
-   in-leaves stored occluder's max distance to cell point (any line is at most that far from its cell exit). */
+   in-leaves stored occluder's max distance to cell point (any line at most that far from cell exit). */
 PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
 	size_t i;
 	for (i = t->node_count; i-- > 0;) {
@@ -7405,9 +7408,9 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 	}
 }
 
-/* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert (occluder crossing cell is
+/* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert (occluder crossing cell
    visible anyway; its outside parts still block). test 1, exact re-test: 1 if it meets cell, is a point, is degenerate
-   from cell edge, or a line from edge reaches it past occluders. */
+   from cell edge, or line from edge reaches it past occluders. */
 PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
 								 double near, int test) {
 	uint32_t k;
@@ -7529,7 +7532,7 @@ done:
    2. in (s, h), s along line, vertex s values cut slabs with no vertex inside, where cross-section bounds are
 	  linear: triangles overlapping (within tol) at both slab ends overlap across it, so connected sets cover
 	  [min_j max(lo_j), max_j min(hi_j)] (member bounds at ends) over whole slab;
-   3. adjacent slabs with equal intervals (within tol) make a facade: segment, heights [bottom, top] it fully covers.
+   3. adjacent slabs with equal intervals (within tol) make facade: segment, heights [bottom, top] it fully covers.
    Conservative up to cracks and offsets of tol (8 float epsilons of scene's coordinates: T-junction cracks); heights
    round inward, ends are vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into new *out (allocator a,
    *out_floats floats), *vertical: vertical triangles; OOM leaves *out NULL. */
@@ -7597,7 +7600,7 @@ typedef struct pvs__fxwork {
 	uint32_t *count;
 } pvs__fxwork;
 
-/* Step 1's vertical test: ground points collinear within tol, ground length and height > tol. Per vertical triangle a
+/* Step 1's vertical test: ground points collinear within tol, ground length and height > tol. Per vertical triangle
    slot tl = (theta in [0, pi), offset n . g, n = (-d1, d0), d0, d1, ground length), vt = triangle. Returns slots. */
 PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up, double tol, double *tl, uint32_t *vt) {
 	uint32_t t, k, nv = 0;
@@ -7838,7 +7841,7 @@ done:
 #define PVS__OT25_TEST_MIN 48
 
 /* Hidden-height bound (§6.5.5's max visibility distance, valid in 2.5D where occluders are seen over): in-leaf's lines
-   cross every member j. A ray on one from eye p <= H = t->eye high passing over j (top h_j > H) rises at slope >= s =
+   cross every member j. Ray on one from eye p <= H = t->eye high passing over j (top h_j > H) rises at slope >= s =
    (h_j - H) / reach_j (|pc| <= reach_j at crossing c): points >= n > reach_j from cell, lower than H + s n, are hidden.
    Leaves keep steepest member (mr = reach, ms = s), inner nodes children's largest reach, least slope; none (DBL_MAX)
    over out-leaves and members no taller than eyes. */
@@ -7959,7 +7962,7 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0
 
 /* Occluder j's per-tree data: jd[0..2] line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on source edge's side);
    jd[3..4] cell corners' min, max D (clamped at 0); jd[5] 1 if source edge on one side; jd[6] top - eyes; jd[7] 0: no
-   umbra (source edge midpoint on its line, or a point); jd[8] reach (max cell-point distance, rounded up); jd[9] (top -
+   umbra (source edge midpoint on its line, or point); jd[8] reach (max cell-point distance, rounded up); jd[9] (top -
    eyes) / reach if taller than eyes, else 0. */
 PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	const double *sg = t->seg + 4 * (size_t)j;
@@ -8054,10 +8057,10 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 }
 
 #define PVS__OT25_MAX_SEQ 32
-/* Lazy funnel splitting: under this many members a leaf takes partly visible occluders whole. Conservative: leaf's
-   lines all cross it, its extended umbra holding there, seen or not (thesis keeps hidden occluders in S_L too,
-   §7.5.2); leaf answers at least as tightly, with longer sequence. From this length splitting (<= 3, §7.5.2) bounds
-   it (tests/BENCHMARKS.md, otree). */
+/* Lazy funnel splitting: under this many members leaf takes partly visible occluders whole. Conservative: leaf's lines
+   all cross it, its extended umbra holding there, seen or not (thesis keeps hidden occluders in S_L too, §7.5.2); leaf
+   answers at least as tightly, with longer sequence. From this length splitting (<= 3, §7.5.2) bounds it
+   (tests/BENCHMARKS.md, otree). */
 #define PVS__OT25_SPLIT_MIN 16
 
 /* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an in-leaf funnel test clips
@@ -8087,7 +8090,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 			uint32_t first = nd->first, count = nd->count, leaf;
 			double f0, f1, v0, v1, cen[3] = {0, 0, 0};
 			int i, c;
-			if (count >= PVS__OT25_MAX_SEQ) continue; /* full leaf keeps its members: conservative */
+			if (count >= PVS__OT25_MAX_SEQ) continue; /* full leaf keeps members: conservative */
 			if (!pvs__ot25_open(t, q, first, count, k, sk, t->top[k], NULL, &f0, &f1, &v0, &v1))
 				continue;
 			leaf = pvs__ot_refine(t, node, q);
@@ -8128,8 +8131,8 @@ PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	return in_root ? t->nodes[node].kind : 0;
 }
 
-/* Early exit of pvs__ot25_box_visible (§3.3.4): 1 if witness line still in an out-leaf crosses box bx's interior
-   (wholly beyond source edge a -> b): it leaves via source edge, meets no occluder, then two box sides, one tested by
+/* Early exit of pvs__ot25_box_visible (§3.3.4): 1 if witness line still in out-leaf crosses box bx's interior (wholly
+   beyond source edge a -> b): it leaves via source edge, meets no occluder, then two box sides, one tested by
    box_visible, reaching that out-leaf. Margins of 1e-6 of scene size absorb rounding; 0: full test. */
 PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const double a[2], const double b[2]) {
 	double nx = a[1] - b[1], ny = b[0] - a[0], mg = 1e3 * t->len_eps, near;
@@ -8191,7 +8194,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 			continue;
 		}
 		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, top, e ? near : -1.0, h); continue; }
-		t->stack_count = top; /* polygon readable in its slot till next push */
+		t->stack_count = top; /* polygon readable in slot till next push */
 		if (e) {
 			if (nd->kind == PVS__OT_OUT) pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top));
 			vis = nd->kind == PVS__OT_OUT || pvs__ot25_open(t, PVS__OT_ITEM(t, top), nd->first, nd->count, PVS__OT_NONE,
@@ -8228,8 +8231,8 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 	c4[5] = c4[7] = bx[3];
 	if (any_far) *any_far = 0;
 	if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
-	/* Box taller than eyes is seen, if at all, along a rising ray, best where its 2D line enters it; a lower one along
-	   a falling ray, where it leaves (farther point at equal height is higher over every occluder in front; members
+	/* Box taller than eyes is seen, if at all, along rising ray, best where its 2D line enters it; lower one along
+	   falling ray, where it leaves (farther point at equal height is higher over every occluder in front; members
 	   crossing box ignored by pvs__ot25_open). No line enters via box edge facing away from source or leaves via the
 	   one facing it (edges 0..3: -v, +u, +v, -u): entry (exit) edge first, likeliest seen, then sides. */
 	if (fabs(nx) > fabs(ny)) far_edge = nx > 0 ? 1 : 3;
@@ -8270,7 +8273,7 @@ typedef struct pvs__ot25_sweep {
 	double cx, cy;
 	uint32_t side, budget;
 	pvs_otree_stats *st;
-	const uint32_t *refs; /* per kD node: item references in its subtree */
+	const uint32_t *refs; /* per kD node: item references in subtree */
 	uint32_t node;
 	uint32_t test_min;
 } pvs__ot25_sweep;
@@ -8333,8 +8336,8 @@ PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source
 	pvs__kd_sweep(t, source, heap, pvs__ot25_visit, w, &w->node);
 }
 
-/* Balanced top of source edge's tree: front-to-back insertion carves open region (lines down a street) into a chain as
-   deep as occluders along it, walked by later queries. Splitting root first by (exact) planes of PVS__OT25_PRESPLIT far
+/* Balanced top of source edge's tree: front-to-back insertion carves open region (lines down street) into chain as deep
+   as occluders along it, walked by later queries. Splitting root first by (exact) planes of PVS__OT25_PRESPLIT far
    points over all directions leaves short chains, one per direction sector. Reorders pts[lo..hi): each with child
    holding its line from m. */
 #define PVS__OT25_PRESPLIT 16
@@ -8631,7 +8634,7 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 /* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes through eye (unit normal);
    in-leaf: fragment blocking its ray pyramid. Edge marks: §4.10.1. Conservative: in-leaf region meets exact stored
    planes, so all its rays meet occluder; insertion may drop slivers below tol, never claim more. Tests widen: box
-   descends all sides within `tol` (1e-10 x eye-relative scene size, >> unit-normal dot error), is behind a fragment or
+   descends all sides within `tol` (1e-10 x eye-relative scene size, >> unit-normal dot error), is behind fragment or
    outside its pyramid only beyond fragment's tol. Box tests take each plane at sign-picked corner, same ops for all
    boxes, so are monotone: hidden node's child never tests visible; hierarchy updating is exact (§4.11.4). */
 
@@ -9039,7 +9042,7 @@ PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], c
 	return vis ? PVS__SV_V : PVS__SV_I;
 }
 
-/* Frustum (outside a plane: invisible; crossing: <= partly), then tree. */
+/* Frustum (outside plane: invisible; crossing: <= partly), then tree. */
 PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 	double lo[3], hi[3];
 	int k, cross = 0;
@@ -9522,7 +9525,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 	return PVS_OK;
 }
 
-/* ---- OTREE bake method (a row of >>bake's table) ---- */
+/* ---- OTREE bake method (row of >>bake's table) ---- */
 
 typedef struct pvs__otree_bake {
 	pvs_allocator allocator;
@@ -10232,15 +10235,14 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
    Conservative: for triangles K and x above ground level g, w(x) = parity of K's triangles crossed by x's upward ray.
    If K's edges have even use counts (except at up = g: no sight line between points above g dips below), w is constant
    on each connected piece of space minus K; odd (open) edge flips w across vertical sheet below it. Voxel: pure if no K
-   triangle or sheet within margin m (one w), mixed if only a triangle (nodes w = 0, 1: joining equal-w parts
-   over-approximates connectivity), bad if a sheet (one node). Free space is open, so a path avoiding K crosses voxels
-   via faces only, carrying face point's w: graph linking face neighbours' equal-w nodes (any node of bad voxel) holds
-   all such paths; outside K's voxel box (sheets end at g, inside it) is one w = 0 region. Flood from voxels meeting a
-   cell, and from outside if a cell leaves box, reaches all a viewer can walk to without touching K: a pure voxel it
-   misses is seen from no cell, so sight lines through it meet a triangle first. Solid for some triangles is solid for
-   all: components flood alone (overlapping meshes keep parity). w read per column on vertical line with certain
-   orientation signs (pvs__vx_cross). Slits, doors narrower than a voxel give mixed or bad voxels, joining both
-   sides. */
+   triangle or sheet within margin m (one w), mixed if only triangle (nodes w = 0, 1: joining equal-w parts
+   over-approximates connectivity), bad if sheet (one node). Free space is open, so path avoiding K crosses voxels via
+   faces only, carrying face point's w: graph linking face neighbours' equal-w nodes (any node of bad voxel) holds all
+   such paths; outside K's voxel box (sheets end at g, inside it) is one w = 0 region. Flood from voxels meeting a cell,
+   and from outside if a cell leaves box, reaches all a viewer can walk to without touching K: pure voxel it misses is
+   seen from no cell, so sight lines through it meet triangle first. Solid for some triangles is solid for all:
+   components flood alone (overlapping meshes keep parity). w read per column on vertical line with certain orientation
+   signs (pvs__vx_cross). Slits, doors narrower than voxel give mixed or bad voxels, joining both sides. */
 
 /* orient2d (b - a) x (p - a); *bound bounds its rounding (each difference, product rounded once: <= 4.5e-16 (|t1| +
    |t2|)): sign certain if |value| > *bound. No underflow for floats. */
@@ -10489,7 +10491,7 @@ PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, 
 	pvs__vx_push(bits, queue, qt, vi, (f & (PVS__G_B | PVS__G_T)) ? 0 : (f & PVS__G_W) != 0);
 }
 
-/* w of cell cb, clear of K by m (shared by its points): parity of K's crossings above a point of cb on vertical line
+/* w of cell cb, clear of K by m (shared by its points): parity of K's crossings above point of cb on vertical line
    (none within m); -1 if 8 lines fail. */
 PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
 	uint32_t up = s->up_axis, t, line;
@@ -10599,7 +10601,7 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 	return ext;
 }
 
-/* pvs__vx_scan visitor: voxels a triangle touches (margin toward touched). */
+/* pvs__vx_scan visitor: voxels triangle touches (margin toward touched). */
 typedef struct pvs__vx_touch {
 	pvs_occluders *o; /* non-NULL: sets PVS__VX_TOUCHED (gr: its grid) */
 	const pvs__vx_grid *gr;
@@ -10836,7 +10838,7 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
 }
 
 /* Step 4's w of cell cb (box voxels r0..r1): -1 (all nodes) if cb + m meets K; else 0 with out_w0 (leaves box above
-   ground); else a pure voxel's it overlaps by over m, or its own ray's. */
+   ground); else pure voxel's it overlaps by over m, or its own ray's. */
 PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3],
 									 const uint32_t r1[3], int out_w0) {
 	const uint8_t *bits = fb->fl->bits;
@@ -10910,11 +10912,11 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
 }
 
 /* Step 4, sources: cells meeting box (one clear of K by m is convex and free: its voxels get its w's node; else all
-   nodes), and outside if a cell is partly outside. Leaking cells (through a closed level's wall into a mesh's faceless
-   void) would flood every wall's interior, so if under half the active cells lie outside box, outside floods first;
-   cells outside, partly outside or reached are excluded if together under half. Excluded cells seed no later flood, get
-   no occluder (pvs_shrink_cell sets all objects for them); argument holds for the rest. Sources left in fl->queue;
-   returns pvs__vx_flood_run's ext. */
+   nodes), and outside if a cell is partly outside. Leaking cells (through closed level's wall into mesh's faceless
+   void) would flood every wall's interior, so if under half active cells lie outside box, outside floods first; cells
+   outside, partly outside or reached are excluded if together under half. Excluded cells seed no later flood, get no
+   occluder (pvs_shrink_cell sets all objects for them); argument holds for the rest. Sources left in fl->queue; returns
+   pvs__vx_flood_run's ext. */
 PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
 	pvs__vx_flood *fl = fb->fl;
 	uint8_t *bits = fl->bits;
@@ -11026,8 +11028,8 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
    Each component floods again on own grid (voxel eps, grown within budgets). Column-map square (side eps / 2, larger
    past PVS__VX_MAP_BUDGET): solid height = least top of proved-solid ground runs in voxel columns it overlaps; occluder
    height (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below component's triangles within eps of it:
-   every point below has an eps-ball free of component, joined to proved solid, so sight lines through it meet a
-   triangle first. Squares grow by margin above coordinate float precision. */
+   every point below has eps-ball free of component, joined to proved solid, so sight lines through it meet triangle
+   first. Squares grow by margin above coordinate float precision. */
 
 #define PVS__VX_BOX_BUDGET (1u << 23)
 #define PVS__VX_MAP_BUDGET (1u << 22)
@@ -11077,7 +11079,7 @@ typedef struct pvs__vx_tminvisit {
 	float *tmin; /* per square from (su0, sv0), rows of row */
 	uint32_t su0, sv0, row;
 } pvs__vx_tminvisit;
-/* Lower bounds letting pvs__vx_tmin_visit skip clip (stacked triangles meet a square often). */
+/* Lower bounds letting pvs__vx_tmin_visit skip clip (stacked triangles meet square often). */
 PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
 	const double *a = tv->p[0], *b = tv->p[1], *c = tv->p[2];
 	int u = tv->u, v = tv->v, up = tv->up;
@@ -11290,7 +11292,7 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 				uint32_t e0 = (start + k) % n, e1 = (start + k + 1) % n;
 				if (k >= i && k < j) continue; /* replaced by chord */
 				if (k + 1 == i || (k == j % n && j < n) || (j == n && k == 0) || (i == 0 && k + 1 == n)) {
-					/* edges sharing an end with chord may touch only there */
+					/* edges sharing end with chord may touch only there */
 					const int32_t *c0 = pt + 2 * e0, *c1 = pt + 2 * e1;
 					int64_t o0 = pvs__vx_orient_i(a, b, c0), o1 = pvs__vx_orient_i(a, b, c1);
 					if (o0 == 0 && o1 == 0) ok = 0; /* collinear overlap */
@@ -11310,7 +11312,7 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 }
 
 /* Traces boundary loops of mask's set squares (w x h, empty frame around), set on left, turning left where diagonal
-   squares meet (4-connected). Simplified, each is a chain of heights [base, top], point (i, j) at (ox + i c, oy + j c):
+   squares meet (4-connected). Simplified, each is chain of heights [base, top], point (i, j) at (ox + i c, oy + j c):
    outer (CCW) loops closed, holes (not solid) open, repeating first point. used: 4 (w + 1) (h + 1) bytes. 0: OOM. */
 PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
 							  uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
@@ -11355,7 +11357,7 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 							!PVS__IN((int)vx + rqi[cand], (int)vy + rqj[cand]))
 							nd = cand;
 					}
-					if (nd < 0) return 0; /* not a boundary: impossible */
+					if (nd < 0) return 0; /* not boundary: impossible */
 					d = nd;
 					e = 4 * (vy * (w + 1) + vx) + (uint32_t)d;
 					if (e == start) break;
@@ -11777,7 +11779,7 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 }
 
 /* pvs_occluders_create's shared step state. Steps return PVS_OK or OOM; pvs__vx_build_free frees what error paths
-   leave; step freeing a buffer NULLs it. */
+   leave; step freeing buffer NULLs it. */
 typedef struct pvs__vx_build {
 	const pvs_occluders_desc *d;
 	const pvs_scene *s;
@@ -12044,7 +12046,7 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 }
 
 /* Step 3, leak diagnostic: 6-connected flood from grid border through voxels not touched, ground or explicit (path
-   meeting no triangle). info.leak_cells: cells reached; info.leak_cell, leak_point: lowest, a reached voxel. Uses
+   meeting no triangle). info.leak_cells: cells reached; info.leak_cell, leak_point: lowest, reached voxel. Uses
    b->queue (total entries). */
 PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
@@ -12310,7 +12312,7 @@ typedef struct pvs__walk {
 	pvs_kdtree *solids; /* over cbox */
 } pvs__walk;
 
-/* 1 if p inside a closed mesh: odd crossings above p (ambiguous: not inside). */
+/* 1 if p inside closed mesh: odd crossings above p (ambiguous: not inside). */
 PVS__STATIC int pvs__walk_inside(const pvs__walk *k, const float p[3]) {
 	uint32_t n = 0, i;
 	const uint32_t *items = pvs_kdtree_leaf_items(k->solids, p, &n);
@@ -12361,7 +12363,7 @@ PVS__STATIC void pvs__walk_point(const pvs__walk *k, uint32_t col, double h, flo
 	p[k->up] = (float)h;
 }
 
-/* 1 if p's eye is in view volume (or none given). */
+/* 1 if p's eye in view volume (or none given). */
 PVS__STATIC int pvs__walk_in_volumes(const pvs__walk *k, const float p[3]) {
 	float e[3];
 	uint32_t i;
@@ -12417,7 +12419,7 @@ PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	return 1;
 }
 
-/* Most a walk climbs between neighbouring columns: a step, or ramp or stairs at max_slope. */
+/* Most a walk climbs between neighbouring columns: step, or ramp or stairs at max_slope. */
 PVS__STATIC double pvs__walk_climb(const pvs__walk *k) {
 	return pvs__dmax(k->d.step_height, k->hs * tan((double)k->d.max_slope));
 }
@@ -12433,7 +12435,7 @@ PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent) {
 		for (dirn = 0; dirn < 2; ++dirn) {
 			uint32_t iu = k->w[a].col % k->nu, iv = k->w[a].col / k->nu;
 			uint32_t i2 = dirn ? iv + 1 : iu + 1;
-			int side = i2 % 4 == 0; /* across a square's side */
+			int side = i2 % 4 == 0; /* across square's side */
 			if (i2 >= (dirn ? k->nv : k->nu)) continue;
 			col = k->w[a].col + (dirn ? k->nu : 1);
 			for (b = k->first[col]; b < k->first[col + 1]; ++b) {
@@ -12522,8 +12524,8 @@ PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, ui
 	++*n;
 }
 
-/* Rectangle group grown over neighbouring squares (<= max_merge per side, rows of equal extent), or other groups as a
-   box per run of equal sample rows. */
+/* Rectangle group grown over neighbouring squares (<= max_merge per side, rows of equal extent), or other groups as box
+   per run of equal sample rows. */
 PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint32_t *sq_first, pvs__wgroup *a0,
 								 pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs__wgroup *run[64], *row[8];
@@ -12677,7 +12679,7 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 		return PVS__BAD_ARG(err, "walkable: negative size, slope not below pi / 2, max_merge over 8 or volumes NULL");
 	for (c = 0; c < k.d.volume_count; ++c)
 		if (!pvs__box_valid(k.d.volumes + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "view volume %u", c);
-	if (k.d.eye_height == 0.0f) k.d.eye_height = 1.8f; /* the others scale with it */
+	if (k.d.eye_height == 0.0f) k.d.eye_height = 1.8f; /* others scale with it */
 	if (k.d.cell_size == 0.0f) k.d.cell_size = k.d.eye_height * (4.0f / 1.8f);
 	if (k.d.head_room == 0.0f) k.d.head_room = k.d.eye_height;
 	if (k.d.step_height == 0.0f) k.d.step_height = k.d.eye_height * (0.5f / 1.8f);
@@ -12760,23 +12762,23 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 /* ==== vocc: virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): aggregate umbrae grown from seeds along active
    supporting and separating lines (§3), 2.5D by height slices (§3.1), greedy selection (Fig. 6), five quantized bytes
    per occluder, PVS rebuilt on cell entry (§2, §4) ==== */
-/* 2D (§3): cell C a rectangle, occluders opaque segments. Segments closing a ring with exactly equal ends form a wall
-   loop: a point inside (odd crossings) is hidden from all outside, and a segment crossing its hull from outside to
-   outside crosses the loop, so a loop whose hull misses C is a convex blocker (its hull) for points outside it. §3's
-   objects: these hulls (buildings), other segments. Conservative: x hidden iff every segment C-x meets a blocker. A
-   convex blocker disjoint from C, not holding x, covers an interval of C's fan from x, wholly before or behind C per
-   ray (disjoint convex sets seen from a point keep order): one ray decides; x hidden if intervals before C cover the
-   fan (pvs__vo_hidden). Along a line the answer changes only at object boundaries or common tangents through C of two
-   objects (or object and C); hidden sets are closed, so a point per interval between events finds hidden parts up to
-   rounding (pvs__vo_line_hidden). Each virtual occluder is so checked after final rounding, against its aggregate's
-   blockers (a subset). Growth (§3): seeds by subtended angle; an aggregate grows both sides along active supporting
-   line P (outer tangent of C and aggregate) and separating polyline Q (first the inner tangent). Object B hit by an
-   active line: (1) meets umbra U (a probe point of B hidden without B): joins U, P and Q move to it, new occluder
-   behind B or (3, found on Q) furthest one extends; (2) meets only Q: bends Q, joins blockers so later objects fuse
-   through it. New occluder dumps current one into the dense set ("periodically dumped", §3). */
+/* 2D (§3): cell C a rectangle, occluders opaque segments. Segments closing ring with exactly equal ends form wall
+   loop: point inside (odd crossings) hidden from all outside, and segment crossing its hull from outside to outside
+   crosses loop, so loop whose hull misses C is convex blocker (its hull) for points outside it. §3's objects: these
+   hulls (buildings), other segments. Conservative: x hidden iff every segment C-x meets blocker. Convex blocker
+   disjoint from C, not holding x, covers interval of C's fan from x, wholly before or behind C per ray (disjoint convex
+   sets seen from point keep order): one ray decides; x hidden if intervals before C cover fan (pvs__vo_hidden). Along a
+   line the answer changes only at object boundaries or common tangents through C of two objects (or object and C);
+   hidden sets are closed, so a point per interval between events finds hidden parts up to rounding
+   (pvs__vo_line_hidden). Each virtual occluder is so checked after final rounding, against aggregate's blockers
+   (subset). Growth (§3): seeds by subtended angle; aggregate grows both sides along active supporting line P (outer
+   tangent of C and aggregate) and separating polyline Q (first inner tangent). Object B hit by active line: (1) meets
+   umbra U (probe point of B hidden without B): joins U, P and Q move to it, new occluder behind B or (3, found on Q)
+   furthest one extends; (2) meets only Q: bends Q, joins blockers so later objects fuse through it. New occluder dumps
+   current one into dense set ("periodically dumped", §3). */
 
 #define PVS__VO_NONE 0xffffffffu
-#define PVS__VO_MAXH 64u /* max hull vertices of a loop blocker */
+#define PVS__VO_MAXH 64u /* max hull vertices of loop blocker */
 #define PVS__VO_ATOL 1e-11 /* pseudo-angle overlap joining spans of other vertices */
 #define PVS__VO_RTOL 1e-9 /* lengths, times context's scale */
 #define PVS__VO_MAXG 64u /* max objects per aggregate */
@@ -12924,7 +12926,7 @@ PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
 	w->nv = nv;
 }
 
-/* Per vertex: degree (w->deg), first two segments (w->adj), component root (w->uf); per root w->idx = 1 if not a loop
+/* Per vertex: degree (w->deg), first two segments (w->adj), component root (w->uf); per root w->idx = 1 if not loop
    (vertex of degree != 2). p->seg_loop = -1. */
 PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 	uint32_t *deg = w->deg, *adj = w->adj, *uf = w->uf, *idx = w->idx, m = p->nseg, nv = w->nv, i;
@@ -13170,7 +13172,7 @@ typedef struct pvs__vobj {
 	uint32_t first, n; /* vx[first, +n): n = 2 segment, else ccw hull */
 	int32_t loop; /* hull's wall loop (inside test), -1 */
 	uint32_t mark, visit;	/* growth and query stamps */
-	uint32_t used; /* in an aggregate of slice: no seed */
+	uint32_t used; /* in aggregate of slice: no seed */
 	double bb[4];
 	double angle; /* subtended from cell centre: seed order */
 } pvs__vobj;
@@ -13488,8 +13490,8 @@ PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const d
 	return 1;
 }
 
-/* Cell's fan from x: extreme corners cl, ch (in a half-plane), unit bisector f, edge pseudo-angles aL, aR about f, box
-   of cell and x grown by tol. */
+/* Cell's fan from x: extreme corners cl, ch (in half-plane), unit bisector f, edge pseudo-angles aL, aR about f, box of
+   cell and x grown by tol. */
 typedef struct pvs__vo_fan {
 	const double *cl, *ch;
 	double f[2], aL, aR, bb[4];
@@ -13638,7 +13640,7 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
 	return pvs__vo_spans_cover(c, ns, fn.aL, fn.aR);
 }
 
-/* ---- the aggregate: blockers, lines where hidden answers can change ---- */
+/* ---- aggregate: blockers, lines where hidden answers can change ---- */
 
 /* Min and max pvs__vo_cross(p, q, .) over n points x. */
 PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x, uint32_t n, double *mn, double *mx) {
@@ -13985,7 +13987,7 @@ PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32
 	}
 }
 
-/* 1 if a probe of b (vertices, edge midpoints, extra) hidden by aggregate sans b: b meets umbra (cases 1, 3). */
+/* 1 if probe of b (vertices, edge midpoints, extra) hidden by aggregate sans b: b meets umbra (cases 1, 3). */
 PVS__STATIC int pvs__vo_meets_umbra(pvs__vctx *c, uint32_t b, const double *extra, int nextra) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first;
@@ -14403,9 +14405,9 @@ typedef struct pvs__vo_rt {
 	int u_axis, v_axis, up, ok;
 } pvs__vo_rt;
 
-/* Occluder a-b's test (world ground, heights base..top) for a cell. In 2D a box is in umbra (§3) if beyond line and,
-   per cell corner c, on b's side of line c-a and a's of c-b. Convex: corners decide; support functions test box at
-   once. Margins (1e-7 of frame extent) make rounding answer "not hidden". */
+/* Occluder a-b's test (world ground, heights base..top) for cell. In 2D box in umbra (§3) if beyond line and, per cell
+   corner c, on b's side of line c-a and a's of c-b. Convex: corners decide; support functions test box at once. Margins
+   (1e-7 of frame extent) make rounding answer "not hidden". */
 PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b,
 								 double base, double top) {
 	double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
@@ -14508,7 +14510,7 @@ PVS__STATIC int pvs__vo_box_ok(const pvs_box *b) {
 	return 1;
 }
 
-/* r from caller's occluder; 0 (r unusable) if its ends are not finite. */
+/* r from caller's occluder; 0 (r unusable) if ends not finite. */
 PVS__STATIC int pvs__vo_rt_user(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const pvs_virtual_occluder *o) {
 	double a[2], b[2];
 	a[0] = o->p0[0]; a[1] = o->p0[1];
@@ -14523,7 +14525,7 @@ PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs
 	return pvs__vo_rt_user(&r, cell, up_axis, o) && pvs__vo_rt_hides(&r, box);
 }
 
-/* ---- the rebuild: top-down walk of object kD-tree ---- */
+/* ---- rebuild: top-down walk of object kD-tree ---- */
 
 typedef struct pvs__vo_walk {
 	const pvs__vo_rt *rt;
@@ -14647,7 +14649,7 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 	return pvs__vo_cull(cell, rt, count, boxes, object_count, tree, rest, rest_size, visible, err);
 }
 
-/* ---- the VOCC section of a .pvs file (layout: manual) ---- */
+/* ---- VOCC section of .pvs file (layout: manual) ---- */
 
 #define PVS__VO_TAG ((uint32_t)'V' | ((uint32_t)'O' << 8) | ((uint32_t)'C' << 16) | ((uint32_t)'C' << 24))
 #define PVS__VO_HEAD 16u
@@ -15121,7 +15123,7 @@ done:
 	return PVS_OK;
 }
 
-/* ---- the 2D entry point ---- */
+/* ---- 2D entry point ---- */
 
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t capacity, uint32_t *count,
 							   pvs_vocc_stats *stats, pvs_error *err) {
@@ -15181,7 +15183,7 @@ done:
 	return PVS_OK;
 }
 
-/* ---- the VOCC bake method (a row of >>bake's table) ---- */
+/* ---- VOCC bake method (row of >>bake's table) ---- */
 
 typedef struct pvs__vocc_bake {
 	pvs_allocator allocator;
@@ -15306,28 +15308,28 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 }
 
 // >>portal
-/* ==== portal: rooms and portals from the scene's closed convex solids, conservative portal flow per cell ==== */
+/* ==== portal: rooms and portals from scene's closed convex solids, conservative portal flow per cell ==== */
 /* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids are connected closed
    convex meshes of scene triangles (joined by shared or split vertices: pvs__po_solids; each directed edge matched by
    its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles), not explicit occluder volumes
-   (rays pass them). A BSP on their face planes (q3map2's BuildTree: fragments split by planes they straddle) ends in
-   leaves inside a solid or outside all: empty ones are rooms. Planes closer than input's float resolution are one
+   (rays pass them). BSP on their face planes (q3map2's BuildTree: fragments split by planes they straddle) ends in
+   leaves inside solid or outside all: empty ones are rooms. Planes closer than input's float resolution are one
    (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size): touching solids leave no crack. Portal: empty leaf's face with
-   an empty leaf beyond, pushed down the tree, split by planes it straddles (Teller 1992 §3.3). A segment between rooms
-   missing all solids crosses the portals of leaves it passes, in order. Other triangles block nothing here.
+   empty leaf beyond, pushed down tree, split by planes it straddles (Teller 1992 §3.3). Segment between rooms missing
+   all solids crosses portals of leaves it passes, in order. Other triangles block nothing here.
 
-   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): a segment from x in view cell C through portals
+   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): segment from x in view cell C through portals
    P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: lines' source is C_j, C clipped to
-   that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of C_j (or P(j-1)) and its
+   that side (empty: no such line). Beyond Pj segment stays behind every separating plane of C_j (or P(j-1)) and its
    crossing region on Pj. Each step P -> Q (or start leaf's portal Q) keeps hull R of regions so found on Q; region W (Q
-   clipped by step's planes into P) outside R grows R to hull(R, W), queues the step: monotone fixed point (as q3map2's
-   might-see pruning); by induction each crossing point lies in its step's R. Objects of a leaf entered via Q (or
-   overlapped by C) are kept if a triangle's part in the leaf is behind all the step's planes, as visible points are.
-   Past `budget` portal clips: all objects of reachable empty leaves (conservative cut-off). */
+   clipped by step's planes into P) outside R grows R to hull(R, W), queues step: monotone fixed point (as q3map2's
+   might-see pruning); by induction each crossing point lies in its step's R. Objects of leaf entered via Q (or
+   overlapped by C) are kept if triangle's part in leaf is behind all step's planes, as visible points are. Past
+   `budget` portal clips: all objects of reachable empty leaves (conservative cut-off). */
 
 #define PVS__PO_MAXW 64u /* clipped winding vertices */
 #define PVS__PO_MAXS 64u /* separating planes per region */
-#define PVS__PO_MAX_FACES 256u /* triangles of a convex-solid mesh */
+#define PVS__PO_MAX_FACES 256u /* triangles of convex-solid mesh */
 #define PVS__PO_DEPTH 200u /* BSP depth (deeper: empty leaf, conservative) */
 #define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* fragment faces: solid's, 1 per split */
 #define PVS__PO_CANDIDATES 48u /* split planes scored per node */
@@ -15394,7 +15396,7 @@ typedef struct pvs__poprep {
 	size_t lo_count, lo_cap;
 	uint32_t budget, empty_leaves;
 	uint32_t *task_cut, task_count; /* per task: cells cut off (own slot) */
-	pvs_box *solid_box; /* solids: a point inside sees objects meeting it (hull blocks the rest) */
+	pvs_box *solid_box; /* solids: point inside sees objects meeting it (hull blocks the rest) */
 	uint32_t *so_first, *so; /* per solid drawable objects meeting its box */
 	size_t so_count;
 } pvs__poprep;
@@ -15417,7 +15419,7 @@ PVS__STATIC int pvs__po_axis(const double *n) {
 	return fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
 }
 
-/* Table id of plane n.x = d (n unit): existing one within epsilons, or new pair; PVS__PO_NONE: no memory. */
+/* Table id of plane n.x = d (n unit): existing one within epsilons, or new pair; PVS__PO_NONE: OOM. */
 PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) {
 	double de = PVS__PO_DIST_EPS * p->ext, nn[3];
 	double q = fabs(d) / (1e-3 * p->ext);
@@ -15481,7 +15483,7 @@ PVS__STATIC void pvs__po_base(const double *pl, double big, pvs__po_wind *w) {
 	}
 }
 
-/* Appends x as vertex *n of w; 1 if w is full (x lost). */
+/* Appends x as vertex *n of w; 1 if w full (x lost). */
 PVS__STATIC int pvs__po_put(pvs__po_wind *w, uint32_t *n, const double *x) {
 	if (*n == PVS__PO_MAXW) return 1;
 	memcpy(w->p[(*n)++], x, sizeof(w->p[0]));
@@ -15542,7 +15544,7 @@ PVS__STATIC void pvs__po_poly_free(const pvs_allocator *a, pvs__po_poly *q) {
 	memset(q, 0, sizeof(*q));
 }
 
-/* Faces (planes, windings) into one block; 0 if out of memory. */
+/* Faces (planes, windings) into one block; 0: OOM. */
 PVS__STATIC int pvs__po_poly_make(const pvs_allocator *a, pvs__po_poly *q, const uint32_t *planes,
 								  const pvs__po_wind *w, uint32_t faces) {
 	uint32_t i, verts = 0;
@@ -15582,7 +15584,7 @@ PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w
 }
 
 /* Polytope of planes[0..count) (outward): each face its base square clipped by others (dropped if clipped away); < 4
-   left: empty *q (face_count 0). 0 if out of memory. */
+   left: empty *q (face_count 0). 0: OOM. */
 PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes, uint32_t count, pvs__po_poly *q,
 										 pvs__po_wind *scratch, uint32_t *kept) {
 	uint32_t i, faces = 0;
@@ -15631,7 +15633,7 @@ PVS__STATIC int pvs__po_side(const pvs__po_poly *q, const double *pl, double eps
 }
 
 /* Splits q by table plane id into *front, *back (empty if no part of q there); q untouched. Cap: plane's base square
-   clipped by q's faces. 0 if out of memory. */
+   clipped by q's faces. 0: OOM. */
 PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32_t id, pvs__po_poly *front,
 								   pvs__po_poly *back, pvs__po_wind *scratch, uint32_t *planes) {
 	const double *pl = p->pl[id];
@@ -15730,8 +15732,8 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 }
 
 /* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle. Triangles join if they share
-   a vertex, or an edge's two positions exactly two of them use, in opposite directions (mesh exported with split
-   vertices; touching solids use such an edge four times, stay apart). 0 if out of memory. */
+   vertex, or edge's two positions exactly two of them use, in opposite directions (mesh exported with split vertices;
+   touching solids use such edge four times, stay apart). 0: OOM. */
 PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
 							   pvs__po_wind *scratch, uint32_t *kept) {
 	const pvs_allocator *al = &p->allocator;
@@ -15813,7 +15815,7 @@ done:
 	return ok;
 }
 
-/* ---- the tree ---- */
+/* ---- tree ---- */
 
 typedef struct pvs__po_build {
 	pvs__poprep *p;
@@ -15846,7 +15848,7 @@ PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *reg
 }
 
 /* Split plane for fragments f[0..n): among unused face planes (axial first, <= PVS__PO_CANDIDATES), best q3map2 score:
-   faces on it - splits - imbalance + axial bonus. PVS__PO_NONE if every face on a splitter above (solid leaf). */
+   faces on it - splits - imbalance + axial bonus. PVS__PO_NONE if every face on splitter above (solid leaf). */
 PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint32_t n) {
 	uint32_t cand[PVS__PO_CANDIDATES], nc = 0, pass, i, j, best = PVS__PO_NONE, most = PVS__PO_CANDIDATES;
 	long best_score = 0;
@@ -16210,8 +16212,8 @@ PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__
 	return c->n ? c : NULL;
 }
 
-/* Keeps objects of empty leaf `leaf` with a part in it not beyond w's planes (w NULL: all): box clipped to leaf's not
-   wholly beyond one, then a triangle clipped to leaf and by every plane not empty (within tol). */
+/* Keeps objects of empty leaf `leaf` with part in it not beyond w's planes (w NULL: all): box clipped to leaf's not
+   wholly beyond one, then triangle clipped to leaf and by every plane not empty (within tol). */
 PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win *w) {
 	const pvs__poprep *p = f->p;
 	const pvs_scene *s = f->scene;
@@ -16248,7 +16250,7 @@ PVS__STATIC void pvs__po_uv(const double *x, int a, double *u, double *v) {
 	*v = x[a == 2 ? 1 : 2];
 }
 
-/* 1 if all of w is inside convex polygon r (tol), both on a plane of dominant axis a. */
+/* 1 if all of w inside convex polygon r (tol), both on plane of dominant axis a. */
 PVS__STATIC int pvs__po_inside(const pvs__po_region *r, const pvs__po_wind *w, int a, double tol) {
 	double orient = 0.0;
 	uint32_t i, j;
@@ -16317,7 +16319,7 @@ PVS__STATIC uint32_t *pvs__po_slot(const pvs__po_flow *f, uint32_t state) {
 	return f->slot + 2 * h;
 }
 
-/* New region for state; PVS__PO_NONE: out of memory (table grows at half load). */
+/* New region for state; PVS__PO_NONE: OOM (table grows at half load). */
 PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 	const pvs_allocator *al = &f->p->allocator;
 	uint32_t *e;
@@ -16447,7 +16449,7 @@ PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
 	}
 }
 
-/* ---- the method ---- */
+/* ---- method ---- */
 
 PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 	pvs__poprep *p = (pvs__poprep *)state;
@@ -16481,7 +16483,7 @@ PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 	pvs__free(a, p, sizeof(*p), 16);
 }
 
-/* Solid boxes (rounded outward), per solid drawable objects meeting its box (object BVH). 0 if out of memory. */
+/* Solid boxes (rounded outward), per solid drawable objects meeting its box (object BVH). 0: OOM. */
 PVS__STATIC int pvs__po_solid_objects(pvs__poprep *p, const pvs_scene *s, const pvs__po_poly *frags) {
 	const pvs_allocator *al = &p->allocator;
 	uint32_t i, o, *pairs = NULL, *stack = NULL, sp;
@@ -16740,7 +16742,7 @@ PVS_API const char *pvs_method_name(pvs_method m) {
 
 #ifndef PVS_RUNTIME_ONLY
 
-/* Sample i of `points`: 8 corners, 6 face centres, then a jittered point per stratum of g^k grid (k non-flat axes) */
+/* Sample i of `points`: 8 corners, 6 face centres, then jittered point per stratum of g^k grid (k non-flat axes) */
 PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t points, uint64_t *state, float p[3]) {
 	int k;
 	if (i < 8) {
@@ -16806,7 +16808,7 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 		rot[2][2] = 1.0f - 2.0f * (q0 * q0 + q1 * q1);
 		for (k = 0; k < 3; ++k) pb.min[k] = pb.max[k] = p[k];
 		tmax = 2.0f * diagonal + sqrtf(pvs__box_distance2(&pb, &bounds));
-		/* ... of a spherical Fibonacci set: equal solid angle per ray */
+		/* ... of spherical Fibonacci set: equal solid angle per ray */
 		for (j = 0; j < rays_per_point; ++j) {
 			float z = 1.0f - (2.0f * (float)j + 1.0f) / (float)rays_per_point, r, phi, f[3], dir[3];
 			double turns = (double)j * 0.6180339887498949;
@@ -16868,7 +16870,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 	return rays;
 }
 
-/* ---- the SAMPLE bake method (a row of >>bake's table): estimate from below, never intersected ---- */
+/* ---- SAMPLE bake method (row of >>bake's table): estimate from below, never intersected ---- */
 
 typedef struct pvs__sample_bake {
 	pvs_allocator allocator;
@@ -16917,7 +16919,7 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
    (occluders clipped to w >= small margin; occludees wholly at w > 0). Convex occluder's Projection: 8 corner views
    intersected (§3.2), pixel kept if its worst corner passes each edge by margin above all rounding; Depth: max w,
    rounded up (§2.3). Occludee box's Projection: views' bounding rectangle (§3.1), widened likewise; Depth: min w,
-   rounded down. Hidden if every pixel there holds an occluder strictly nearer (§2.2; off-plane pixels are visible).
+   rounded down. Hidden if every pixel there holds occluder strictly nearer (§2.2; off-plane pixels visible).
 
    Bake (§6.1): occluders prepared once per bake; per cell and direction, largest by solid angle go on PVS__EP_PLANES
    depth maps and, with sweep, extproj.sweep masks out to scene's far end (§5); then object kD-tree front to back,
@@ -16942,10 +16944,10 @@ typedef struct pvs__epframe {
 	double s, face, W, u0, v0, su, sv;
 	double cu[2], cv[2], cw[2];
 	uint32_t width, height;
-	unsigned char bits; /* bits a Projection sets in sweep mask: 1 or a sub-cell's */
+	unsigned char bits; /* bits a Projection sets in sweep mask: 1 or sub-cell's */
 } pvs__epframe;
 
-/* Plane's frame, sides <= max_side pixels (public API: 4096); 0 if plane is bad. */
+/* Plane's frame, sides <= max_side pixels (public API: 4096); 0 if plane bad. */
 PVS__STATIC int pvs__ep_frame_max(const pvs_extproj_plane *pl, uint32_t max_side, pvs__epframe *f) {
 	int k;
 	if (!pl || pl->axis > 2 || (pl->side != 1 && pl->side != -1) || !pvs__box_valid(&pl->cell)) return 0;
@@ -17083,7 +17085,7 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 							pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) +
 								(pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
 								(pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
-			/* moving a point by slack moves its view <= slack (t + |view - V| / (Pw - Vw)) per axis */
+			/* moving point by slack moves its view <= slack (t + |view - V| / (Pw - Vw)) per axis */
 			smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
 		}
 		/* vertex error in pixels: a few ulps of terms, widely, plus slack */
@@ -17203,7 +17205,7 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
 	return pvs__ep_fill_rows(fp, &E, i0, i1, j0, j1, pvs__f_up(dmax + 1e-12 * dmax), map, mask);
 }
 
-/* 0 if occluder's part in slab [wlo, whi] surely covers no pixel: its box's Projection (a superset) holds none. */
+/* 0 if occluder's part in slab [wlo, whi] surely covers no pixel: its box's Projection (superset) holds none. */
 PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3], int count, double wlo, double whi) {
 	double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
 	int i, k;
@@ -17259,7 +17261,7 @@ PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cel
 		for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
 		if (pvs__box_overlap(&b, cell)) return 0;
 	}
-	/* clipped to w >= small margin, split at plane: cell points seeing pixel through one side's part form a convex set,
+	/* clipped to w >= small margin, split at plane: cell points seeing pixel through one side's part form convex set,
 	   so corners decide; not across plane */
 	margin = 1e-4 * (f.W - f.cw[0]);
 	written = 0;
@@ -17329,10 +17331,10 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
 }
 
 /* Durand 2000 §4's improved occludee Projection on axis k, box between cell and plane (depths w0..w1 <= W). Cones go
-   to cell's near face (w = 0): inside cone(P, cell), so Property 2 holds: 3D Projection is exactly the product of 2D
-   ones. With [L(X), R(X)] X's views from face, I = [a, b] works iff a <= min R and b >= max L (over box corners): if
-   max L <= min R one point serves (*any = 1: one column must be hidden), else [min R, max L] (*any = 0: all). Indices
-   may leave map. */
+   to cell's near face (w = 0): inside cone(P, cell), so Property 2 holds: 3D Projection is exactly product of 2D ones.
+   With [L(X), R(X)] X's views from face, I = [a, b] works iff a <= min R and b >= max L (over box corners): if max L <=
+   min R one point serves (*any = 1: one column must be hidden), else [min R, max L] (*any = 0: all). Indices may leave
+   map. */
 PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W,
 									   double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
 	double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
@@ -17378,14 +17380,14 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
 	return 0;
 }
 
-/* ---- the bake method: occluders per bake, planes per cell ---- */
+/* ---- bake method: occluders per bake, planes per cell ---- */
 
 /* Convex occluder: planar convex polygon (triangle or merged triangles) or closed convex solid. */
 typedef struct pvs__epocc {
 	pvs_box box;
 	uint32_t first, count; /* points */
 	int solid;
-	uint32_t xfirst, xcount; /* extended through a sheet (pvs__epsheet); xcount 0: none */
+	uint32_t xfirst, xcount; /* extended through sheet (pvs__epsheet); xcount 0: none */
 	uint32_t sheet;
 	int xside; /* sheet side it stands on */
 	int cap_side, cap_axis; /* capped convex solid (cap_side != 0): only for cells where */
@@ -17535,7 +17537,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 			for (k = 0; k < 3; ++k)
 				scale = pvs__dmax(scale,
 								  pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
-			/* hull exceeds the two triangles by <= this: slack */
+			/* hull exceeds two triangles by <= this: slack */
 			dev = pvs__dabs(pvs__ep_plane_dist(n, x, a0)) / len;
 			if (dev > 1e-6 * scale) return 0;
 			for (k = 0; k < 4; ++k) { /* strictly convex at each corner, turning like triangle */
@@ -17569,7 +17571,7 @@ PVS__STATIC int pvs__ep_edge2_root_cmp(const void *x, const void *y) {
 	return pvs__ep_edge2_cmp(x, y);
 }
 
-/* 1 if (x, y) is inside convex CCW polygon q by margin. */
+/* 1 if (x, y) inside convex CCW polygon q by margin. */
 PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y) {
 	uint32_t i;
 	for (i = 0; i < n; ++i) {
@@ -17592,7 +17594,7 @@ PVS__STATIC int pvs__ep_end_cmp(const void *x, const void *y) {
 	return c ? c : a->edge < b->edge ? -1 : a->edge > b->edge;
 }
 
-/* Walks edges e[0 .. nb) as one loop from e[0].a into q; 0 if a point is on > 2 edges or 2+ loops. ends: 2 nb */
+/* Walks edges e[0 .. nb) as one loop from e[0].a into q; 0 if point on > 2 edges or 2+ loops. ends: 2 nb */
 PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, pvs__epend *ends) {
 	uint32_t i, m, edge = 0;
 	float cur[2];
@@ -17613,7 +17615,7 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
 			if (pvs__fpoint_cmp(ends[mid].p, cur, 2) < 0) lo = mid + 1;
 			else hi = mid;
 		}
-		if (lo + 1 >= 2 * nb || pvs__fpoint_cmp(ends[lo + 1].p, cur, 2) != 0) return 0; /* a loose end */
+		if (lo + 1 >= 2 * nb || pvs__fpoint_cmp(ends[lo + 1].p, cur, 2) != 0) return 0; /* loose end */
 		if (lo + 2 < 2 * nb && pvs__fpoint_cmp(ends[lo + 2].p, cur, 2) == 0) return 0;
 		next = ends[lo].edge == edge ? ends[lo + 1].edge : ends[lo].edge;
 		if (next == 0 || next == edge) return 0;
@@ -17634,7 +17636,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
 	uint32_t nb = 0, i, j, n = 0, m;
 	double area = 0.0, turn = 0.0;
 	PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
-	for (i = 0; i < ne;) { /* zero-area triangle: zero-length edge, a point, not a side */
+	for (i = 0; i < ne;) { /* zero-area triangle: zero-length edge, point, not side */
 		j = i;
 		while (j < ne && pvs__ep_edge2_cmp(e + j, e + i) == 0) ++j;
 		if (((j - i) & 1u) && pvs__fpoint_cmp(e[i].a, e[i].b, 2) != 0) e[nb++] = e[i];
@@ -17722,7 +17724,7 @@ typedef struct pvs__epprepwork {
 	pvs__vx_vkey *ref; /* corners, i = 3 t + k */
 	uint32_t *canon; /* corner -> id among object's distinct positions */
 	const float **vpos; /* distinct positions */
-	uint32_t *owner; /* per position: a triangle using it */
+	uint32_t *owner; /* per position: triangle using it */
 	uint32_t *parent; /* union-find */
 	uint32_t *order; /* triangles grouped by component */
 	uint32_t *start; /* component starts */
@@ -17848,7 +17850,7 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
 	return 1;
 }
 
-/* Cap of component whose boundary edges (pairs in bnd) lie exactly in an axis plane x_k = c, all vertices on one side:
+/* Cap of component whose boundary edges (pairs in bnd) lie exactly in axis plane x_k = c, all vertices on one side:
    *side = +1 if solid where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance. */
 PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv,
 								 uint32_t nuv, int *axis, float *c, int *side) {
@@ -18032,7 +18034,7 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 }
 
 /* Planar group's convex polygon (k corners in w->q2, (u, v) plane of nr's dominant axis ax) as occluder, its triangles
-   marked in w->used; nothing if a corner is not a group vertex. */
+   marked in w->used; nothing if corner not group vertex. */
 PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 									pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
 									double lr, uint32_t ax, double dev, double dent, double scale) {
@@ -18078,8 +18080,8 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
 	for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
 }
 
-/* Durand 2000 §3.3-3.4: a wall of several triangles must act as one occluder, else each piece loses a strip along
-   every shared edge to its penumbra. Edge-connected, coplanar, like-facing triangles forming one convex polygon of <=
+/* Durand 2000 §3.3-3.4: wall of several triangles must act as one occluder, else each piece loses strip along every
+   shared edge to its penumbra. Edge-connected, coplanar, like-facing triangles forming one convex polygon of <=
    PVS__EP_MAXP corners become one planar occluder (marked in w->used); other groups concave ones. */
 PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 											uint32_t n, pvs__epprepwork *w) {
@@ -18279,8 +18281,8 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 		if (pvs__ep_flat_component(s, tt, n, vq, nuv)) closed = capped = 0;
 	}
 	if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && n <= 2 * PVS__EP_MAXP) {
-		/* capped solid serves only cells strictly on its side of cap: a ray from there crosses cap's plane once, going
-		   away, so meets hull (cap included) first on a real face */
+		/* capped solid serves only cells strictly on its side of cap: ray from there crosses cap's plane once, going
+		   away, so meets hull (cap included) first on real face */
 		const float *q[PVS__EP_MAXP];
 		double slack;
 		for (j = 0; j < n; ++j) tris_local[j] = t0 + tl[j];
@@ -18353,7 +18355,7 @@ PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
 /* Sheet search scratch: `cap` edges (3 per triangle of one plane). */
 typedef struct pvs__epsheetwork {
 	pvs__epedge2 *e; /* cap */
-	float *q; /* 2 (cap + 1): a piece's polygon */
+	float *q; /* 2 (cap + 1): piece's polygon */
 	unsigned char *keep; /* cap + 1 */
 	pvs__epend *ends; /* 2 cap */
 	uint32_t *uf; /* cap: pieces (union-find over group's triangles) */
@@ -18370,7 +18372,7 @@ PVS__STATIC void pvs__ep_sheetwork_free(const pvs_allocator *a, pvs__epsheetwork
 	pvs__free_array(a, w->tarea, w->cap, sizeof(double));
 }
 
-/* 0 if out of memory (allocations stay in w). */
+/* 0: OOM (allocations stay in w). */
 PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwork *w, size_t cap) {
 	if (cap <= w->cap) return 1;
 	pvs__ep_sheetwork_free(a, w);
@@ -18410,7 +18412,7 @@ PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float 
 	return PVS_OK;
 }
 
-/* Sheets of n >= 2 triangles in an axis plane: edge-joined pieces (a lamp's base is its own) forming convex polygons */
+/* Sheets of n >= 2 triangles in axis plane: edge-joined pieces (lamp's base is its own) forming convex polygons */
 PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene *s, const pvs__epskey *key, size_t n,
 										   pvs__epsheetwork *w) {
 	int k = (int)key[0].axis, u = (k + 1) % 3, v = (k + 2) % 3;
@@ -18531,9 +18533,9 @@ PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint
 	return PVS_OK;
 }
 
-/* Finds largest sheets, extends occluders standing on them through them by scene's size: the prism under footprint
-   keeps occluder convex and lies in sheet's solid half-space, so from cell over sheet on its side it blocks nothing new
-   and closes the wall-ground seam the two Projections leave open. */
+/* Finds largest sheets, extends occluders standing on them through them by scene's size: prism under footprint keeps
+   occluder convex and lies in sheet's solid half-space, so from cell over sheet on its side it blocks nothing new and
+   closes the wall-ground seam two Projections leave open. */
 PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
 	const pvs_allocator *a = &p->allocator;
 	pvs__epskey *key = NULL;
@@ -18753,10 +18755,10 @@ typedef struct pvs__epslicer {
 	unsigned char *row;
 	unsigned char *cmark; /* res * res (no map or mask is larger): concave occluder's boundary penumbra */
 	size_t cap; /* segments */
-	uint32_t width; /* row buffer: longest side of a map or mask */
+	uint32_t width; /* row buffer: longest side of map or mask */
 } pvs__epslicer;
 
-/* Edge-end order for pvs__ep_cross, fixed by position: both triangles of an edge get one crossing; sections close. */
+/* Edge-end order for pvs__ep_cross, fixed by position: both triangles of edge get one crossing; sections close. */
 PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const float *b, double *x, double *y,
 							   double *mag) {
 	const float *p = a, *q = b;
@@ -18907,8 +18909,8 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
 
 /* Section of closed (or capped) component by plane w = W (Durand 2000 §3.3): pixels inside by parity, at margin from
    every segment, get Depth W. Conservative: cell point V is outside solid (cell outside its box), section point X
-   inside, so V-X crosses surface an odd # of times, never cap (both strictly on its solid side): hits a triangle nearer
-   than W. Vertices on plane count as beyond it (symbolic perturbation): segments agree. */
+   inside, so V-X crosses surface odd # of times, never cap (both strictly on its solid side): hits triangle nearer than
+   W. Vertices on plane count as beyond it (symbolic perturbation): segments agree. */
 PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
 								   const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
 	double mag = 0.0;
@@ -19158,9 +19160,9 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 }
 
 /* Projection of concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of plane or, unless front_only,
-   behind it. As cell point moves, a line's crossing with P's plane leaves P only through its boundary, so pixel X is
+   behind it. As cell point moves, line's crossing with P's plane leaves P only through its boundary, so pixel X is
    covered if (1) outside every boundary edge's penumbra (cmark) and (2) line from cell's centre through X crosses P;
-   one test per unmarked run of a row. Depth: farthest vertex plus slack. */
+   one test per unmarked run of row. Depth: farthest vertex plus slack. */
 PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o,
 									 int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
 	const pvs__epframe f = *fp;
@@ -19265,7 +19267,7 @@ PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
 }
 
 /* Top-down query of extproj's pyramids: depth maps (max pyramids: open where Depth >= d) and sweep masks (AND pyramids:
-   open where `bit` is 0). 1 if a level-0 pixel of rect r (x0 y0 x1 y1) under texel (tx, ty) of level l is open. */
+   open where `bit` is 0). 1 if level-0 pixel of rect r (x0 y0 x1 y1) under texel (tx, ty) of level l is open. */
 typedef struct pvs__ep_pyr {
 	float *const *depth; /* depth map levels; NULL for mask */
 	unsigned char *const *mask;
@@ -19288,7 +19290,7 @@ PVS__STATIC int pvs__ep_open_at(const pvs__ep_pyr *p, uint32_t l, uint32_t tx, u
 	return 0;
 }
 
-/* 1 if a pixel of rect r is open or off plane: from finest level where r spans 2 x 2 texels. */
+/* 1 if pixel of rect r open or off plane: from finest level where r spans 2 x 2 texels. */
 PVS__STATIC int pvs__ep_open(const pvs__ep_pyr *p, const pvs_extproj_plane *plane, uint32_t levels, const int32_t *r) {
 	uint32_t l = 0, tx, ty;
 	if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)plane->width || r[3] >= (int32_t)plane->height) return 1;
@@ -19314,8 +19316,8 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
 
 /* Sweep plane (§5): mask (1 = every ray from cell through pixel blocked before plane) and its AND pyramid. With
    sub-cells (nsub = 4) bit j says so for quarter j of cell (halved across direction on u: bit 0, v: bit 1; frame
-   sub[j]): their umbrae together are wider than the cell's; object hidden if hidden from each. frame.bits: all four
-   (slices block every ray). nsub = 0: bit 1. */
+   sub[j]): their umbrae together are wider than cell's; object hidden if hidden from each. frame.bits: all four (slices
+   block every ray). nsub = 0: bit 1. */
 #define PVS__EP_MAX_SUB 4
 typedef struct pvs__epmask {
 	pvs_extproj_plane plane;
@@ -19418,7 +19420,7 @@ typedef struct pvs__epparams {
 } pvs__epparams;
 
 /* Preview's coarse test (PVS_BAKE_PREVIEW): node subtending < PVS__EP_COARSE_ANGLE (diagonal over distance plus cell
-   diagonal; ~4 pixels of a 64-pixel plane) is decided whole; past PVS__EP_COARSE_TESTS box tests all kept. Such nodes
+   diagonal; ~4 pixels of 64-pixel plane) is decided whole; past PVS__EP_COARSE_TESTS box tests all kept. Such nodes
    number ~log(scene / cell) / angle^2 at any scene size. Only hidden boxes are dropped. */
 #define PVS__EP_COARSE_ANGLE 0.25
 #define PVS__EP_COARSE_TESTS 4096u
@@ -19436,9 +19438,9 @@ typedef struct pvs__epcell {
 	uint32_t tests; /*   box tests so far */
 } pvs__epcell;
 
-/* 1 if box between cell and plane (depths w0 > 0 .. w1 <= W) is hidden by §4's improved Projection: a point of each
+/* 1 if box between cell and plane (depths w0 > 0 .. w1 <= W) is hidden by §4's improved Projection: point of each
    "any" axis range and all of each "all" range hold occluders strictly nearer than w0. Property 1 needs them convex or
-   planar: Projections and reprojected maps are; slices (Depth W) never pass a front box's depth test. */
+   planar: Projections and reprojected maps are; slices (Depth W) never pass front box's depth test. */
 PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, double w0, double w1) {
 	const pvs__epframe *f = &m->frame;
 	int32_t ru[2], rv[2], r[4], i, j;
@@ -19479,7 +19481,7 @@ PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
 }
 
 /* 1 if box hidden from whole cell (never if meeting it): on §6.1's planes by §3.1 behind, §4 in front, both parts if
-   straddling; on the sweep's by last two planes before it. */
+   straddling; on sweep's by last two planes before it. */
 PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
 	int d;
 	if (pvs__box_overlap(b, &c->cell)) return 0;
@@ -19525,14 +19527,14 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
 	return 0;
 }
 
-/* 1 if a part of object o inside b (its box cut by a leaf) may be seen: ranges of its triangles in file order, their
-   boxes (of points inside b) tested top-down (Durand 2000 §2.4, §6.1), hidden skipped, visible halved. Pays only with
-   sweeps (a tree's box is mostly air). Large objects or runs (PVS__EP_PARTS_TRIS, PVS__EP_PARTS_TESTS) kept. */
+/* 1 if part of object o inside b (its box cut by leaf) may be seen: ranges of its triangles in file order, their boxes
+   (of points inside b) tested top-down (Durand 2000 §2.4, §6.1), hidden skipped, visible halved. Pays only with
+   sweeps (tree's box mostly air). Large objects or runs (PVS__EP_PARTS_TRIS, PVS__EP_PARTS_TESTS) kept. */
 #define PVS__EP_PARTS_TRIS 16384u
 #define PVS__EP_PARTS_TESTS 256u
 PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box *b) {
 	const pvs_scene *s = c->scene;
-	uint32_t stack[2 * 34], top = 0, tests = 0; /* a pending half per level: <= 33 ranges */
+	uint32_t stack[2 * 34], top = 0, tests = 0; /* pending half per level: <= 33 ranges */
 	uint32_t t0 = s->object_triangles[2 * (size_t)o], tn = s->object_triangles[2 * (size_t)o + 1];
 	if (tn < 2 || tn > PVS__EP_PARTS_TRIS) return 1; /* as its box test said */
 	stack[top++] = t0 + tn / 2; /* whole box tested: start with halves */
@@ -19563,7 +19565,7 @@ PVS__STATIC int pvs__ep_wanted(const pvs__epcell *c, uint32_t o) {
 	return !c->candidates || pvs_bitset_test(c->candidates, o);
 }
 
-/* §6.1: occludees top-down through object kD-tree, hidden nodes skipped; object visible if its box cut by a leaf is
+/* §6.1: occludees top-down through object kD-tree, hidden nodes skipped; object visible if its box cut by leaf is
    (sweep: pvs__ep_parts_visible). Coarse: PVS__EP_COARSE_ANGLE. */
 PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 									uint32_t count) {
@@ -19601,7 +19603,7 @@ PVS__STATIC void pvs__ep_box_w(const pvs_box *cell, const pvs_box *b, int d, dou
 	else { *w0 = (double)b->min[a] - cell->max[a]; *w1 = (double)b->max[a] - cell->max[a]; }
 }
 
-/* §6.1 plane placement: pixels an occluder's box fills on plane at W, axis by axis. */
+/* §6.1 plane placement: pixels occluder's box fills on plane at W, axis by axis. */
 PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, int d, double W) {
 	int a = d >> 1, ax[2], k, i, j;
 	double w0, w1, ext = (double)cell->max[a] - cell->min[a], len[2];
@@ -19676,7 +19678,7 @@ PVS__STATIC uint32_t pvs__ep_level_count(uint32_t res) {
 /* Counts in mask's summed-area table: (w + 1) (h + 1) <= res^2 + w + h + 1, w + h <= side + res. */
 PVS__STATIC size_t pvs__ep_sat_table(uint32_t res) { return (size_t)res * res + pvs__ep_max_side(res) + res + 1; }
 
-/* Sweep's summed-area tables: one per plane of a direction (each read by <= log2(sweep) + 1 later planes) within
+/* Sweep's summed-area tables: one per plane of direction (each read by <= log2(sweep) + 1 later planes) within
    PVS__EP_SAT_CACHE bytes and sweep >= 2; else two, rebuilt per use. */
 PVS__STATIC size_t pvs__ep_sat_count(uint32_t res, uint32_t sweep) {
 	return (size_t)sweep * pvs__ep_sat_table(res) * sizeof(uint32_t) <= PVS__EP_SAT_CACHE && sweep >= 2 ? sweep : 2;
@@ -19697,11 +19699,11 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
 	return bytes;
 }
 
-/* Fits sweep plane (§5) to span of cell and scene's bounds per axis (plus a sliver), spreading a res x res map's
-   pixels over it as ~square pixels within `room` with `levels`; pixels outside count as open. Nothing that could hide
-   is lost: only occludees beyond (§3.1) and reprojection farther out (§5.1) read masks, and rays from cell to points
-   beyond cross plane inside span, which holds the cell's (as pvs__epslab needs). §6.1's planes are not fitted: §4
-   often hides by pixels outside span. */
+/* Fits sweep plane (§5) to span of cell and scene's bounds per axis (plus sliver), spreading res x res map's pixels
+   over it as ~square pixels within `room` with `levels`; pixels outside count as open. Nothing that could hide is lost:
+   only occludees beyond (§3.1) and reprojection farther out (§5.1) read masks, and rays from cell to points beyond
+   cross plane inside span, which holds cell's (as pvs__epslab needs). §6.1's planes are not fitted: §4 often hides by
+   pixels outside span. */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels,
 								   size_t room, pvs_extproj_plane *pl) {
 	int a = (int)pl->axis, k;
@@ -19728,7 +19730,7 @@ PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, u
 	w = w > side ? side : w;
 	pl->width = (uint32_t)w;
 	pl->height = (uint32_t)h;
-	/* w h <= res^2, but levels round up: a thin map may need a few more pixels than a square */
+	/* w h <= res^2, but levels round up: thin map may need a few more pixels than square */
 	while (pvs__ep_pyramid_size(pl->width, pl->height, levels) > room) {
 		if (pl->width >= pl->height) --pl->width;
 		else --pl->height;
@@ -19783,7 +19785,7 @@ PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, cons
 	return 2.0 * pvs__dabs(atan2(num, den));
 }
 
-/* Solid angle of occluder from e: polygon's by a fan, solid's by its box (<= 3 faces face e). */
+/* Solid angle of occluder from e: polygon's by fan, solid's by its box (<= 3 faces face e). */
 PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__epocc *o, const double *e) {
 	double sum = 0.0;
 	uint32_t i;
@@ -19817,7 +19819,7 @@ typedef struct pvs__epselect {
 	pvs__epsel *sel;
 	uint32_t n, *nsel;
 	double centre[3];
-	pvs_word *seen; /* occluders met in an earlier leaf */
+	pvs_word *seen; /* occluders met in earlier leaf */
 	int cls; /* size class being swept */
 } pvs__epselect;
 
@@ -19838,7 +19840,7 @@ PVS__STATIC void pvs__ep_sel_push(pvs__epsel *h, uint32_t n, uint32_t *count, fl
 	pvs__topk_offer(h, count, n, sizeof(e), &e, pvs__ep_sel_before);
 }
 
-/* 1 if an occluder of this box could, by its solid angle bound, enter heap of a direction it reaches. */
+/* 1 if occluder of this box could, by its solid angle bound, enter heap of direction it reaches. */
 PVS__STATIC int pvs__ep_sel_wanted(const pvs__epselect *w, const pvs_box *box, double bound) {
 	uint32_t d;
 	for (d = 0; d < 6; ++d) {
@@ -19937,7 +19939,7 @@ PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_
 	}
 }
 
-/* Occluder points for plane of `axis`: extended through its sheet if cell is over it on occluder's side and extension
+/* Occluder points for plane of `axis`: extended through its sheet if cell over it on occluder's side and extension
    crosses axis (along it, it only pushes Depth away); NULL: capped solid not over cell. */
 PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell,
 										const int *sheet_side, int axis, uint32_t *count) {
@@ -19965,8 +19967,8 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
 	}
 }
 
-/* §6.1's planes for direction d: one just behind farthest selected occluder (behind an occluder any plane is
-   equivalent, §7.3; in front it loses it to penumbra), others per distance band (far / r^q, far / r^(q-1)], r =
+/* §6.1's planes for direction d: one just behind farthest selected occluder (behind occluder any plane is equivalent,
+   §7.3; in front it loses it to penumbra), others per distance band (far / r^q, far / r^(q-1)], r =
    PVS__EP_PLANE_RATIO, behind band's occluder filling most pixels, for nearer occludees and fusion (Fig. 16). */
 PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 									   const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
@@ -20022,8 +20024,8 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
 }
 
 /* §5.1 reprojection: marks in `to` (farther than `from`) pixels whose every ray from cell crosses blocked pixels of
-   `from`: an umbra inside that of occluders before `from` (Appendix B), so conservative. Kernel: true cell's per row
-   and column (pvs__ep_reproject_axis); summed-area table of from's open pixels decides. Sub-cell j: own kernel and
+   `from`: umbra inside that of occluders before `from` (Appendix B), so conservative. Kernel: true cell's per row and
+   column (pvs__ep_reproject_axis); summed-area table of from's open pixels decides. Sub-cell j: own kernel and
    sat_split lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
 PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split,
 									   pvs__epmask *to, int32_t *ranges, uint32_t j) {
@@ -20075,8 +20077,8 @@ PVS__STATIC void pvs__ep_mask_sat(const pvs__epmask *from, uint32_t *sat, unsign
 	}
 }
 
-/* All sub-cells' summed-area tables at once: 16-bit lane j counts pixels without bit j, mod 2^64. A window's sum is
-   exact mod 2^64, so each lane is exact below 2^16 (caller checks): carries between lanes cancel. */
+/* All sub-cells' summed-area tables at once: 16-bit lane j counts pixels without bit j, mod 2^64. Window's sum is exact
+   mod 2^64, so each lane is exact below 2^16 (caller checks): carries between lanes cancel. */
 PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) {
 	const unsigned char *prev = from->lv[0];
 	uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1, b;
@@ -20108,9 +20110,9 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
 }
 
 /* §5.1 reprojection onto plane `count` from planes 1, 2, 4, 8, ... back (Appendix B: each one's blocked pixels lie in
-   umbra of occluders before it). Each reprojection loses up to a pixel per side to rounding (cell is a box, not the
-   paper's planar equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j to k.
-   `cached` (never with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
+   umbra of occluders before it). Each reprojection loses up to a pixel per side to rounding (cell is box, not paper's
+   planar equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j to k. `cached`
+   (never with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
 PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat,
 										 size_t stride, int cached, int32_t *ranges) {
 	uint32_t back;
@@ -20122,7 +20124,7 @@ PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, 
 }
 
 /* Occluders a sweep plane takes (§5.2: "we project the occluders which lie in front of the current projection plane P
-   onto P"): those with a part since previous plane (straddling ones go on each). Skipped: nodes outside that slab,
+   onto P"): those with part since previous plane (straddling ones go on each). Skipped: nodes outside that slab,
    sideways beyond rectangle (farther out from every cell point), or in previous umbra. */
 typedef struct pvs__epslab {
 	const pvs_scene *scene;
@@ -20133,7 +20135,7 @@ typedef struct pvs__epslab {
 	const pvs__epmask *prev; /* previous plane, NULL for first */
 	pvs__epmask *m; /* plane being filled */
 	unsigned char *cmark;
-	uint32_t *stamp, serial; /* occluders met in this traversal (an item comes once per leaf) */
+	uint32_t *stamp, serial; /* occluders met in this traversal (item comes once per leaf) */
 	double W, Wprev, lo[2], hi[2];
 	int d, cls, axis[2];
 } pvs__epslab;
@@ -20181,7 +20183,7 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
    farther) to scene's far end, each with reprojected earlier planes (§5.1), Projections of occluders since previous
    plane and slices it cuts; count to *planes. Unlike §5.2 (tests/BENCHMARKS.md, extproj): geometric spacing, as dD = D
    (K - 1) P / (C N) crowds planes near cell, where small umbrae are short, leaving few far out, where gaps between
-   small occluders close; none nearer than C: an occluder of width s < C / 2 at w casts an umbra ending before w C / (C
+   small occluders close; none nearer than C: occluder of width s < C / 2 at w casts umbra ending before w C / (C
    - s) < 2 w (nearer occluders still reach first plane); far end (scene's: §6.1 favours near occluders) holds no
    plane. */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
@@ -20210,7 +20212,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 	}
 	if (!(Wend > 0.0)) return PVS_OK;
 	if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
-	/* just behind nearest occluder: only there does a flat occluder facing it lie wholly in front */
+	/* just behind nearest occluder: only there does flat occluder facing it lie wholly in front */
 	W0 = pvs__dmax(W0 + 1e-3 * (W0 + ext), C);
 	Wend += 1e-3 * (Wend + ext);
 	if (!(W0 < Wend)) return PVS_OK;
@@ -20355,7 +20357,7 @@ done:
 	pvs__ep_scratch_free(al, &w, prm->res);
 	return r;
 }
-/* ---- the EXTPROJ bake method (a row of >>bake's table) ---- */
+/* ---- EXTPROJ bake method (row of >>bake's table) ---- */
 
 typedef struct pvs__extproj_bake {
 	pvs_allocator allocator;
@@ -20434,15 +20436,15 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {
 
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
 
-/* ---- the 2.5D path: per-sample occlusion horizons ----
+/* ---- 2.5D path: per-sample occlusion horizons ----
 
-Wonka 2000 §2.1: a cell's PVS is the union of its samples'. Per sample, an occlusion horizon over PVS__HZ_BINS angular
-bins around eye (height H): a facade of height T at ground distance dc hides a point at distance r > dc, height z if
-(z - H) / r < (T - H) / dc. A bin one chain of shrunk facades covers wholly (shared corners: no crack) is crossed by all
-its rays between dmin and dmax, so beyond dmax it hides below slope (T - H) / dmax (T >= H) or (T - H) / dmin (T < H);
-per bin a staircase of (distance, slope) steps keeps the best. A box is hidden if every bin its ground rectangle
-touches has, at its least distance, a slope above its steepest sight line. Occluders front to back, occluded ones
-skipped (§3.4). Angles bin-exact, the rest rounded safe. */
+Wonka 2000 §2.1: cell's PVS is union of its samples'. Per sample, occlusion horizon over PVS__HZ_BINS angular bins
+around eye (height H): facade of height T at ground distance dc hides point at distance r > dc, height z if (z - H) /
+r < (T - H) / dc. A bin one chain of shrunk facades covers wholly (shared corners: no crack) is crossed by all its rays
+between dmin and dmax, so beyond dmax it hides below slope (T - H) / dmax (T >= H) or (T - H) / dmin (T < H); per bin a
+staircase of (distance, slope) steps keeps best. Box is hidden if every bin its ground rectangle touches has, at its
+least distance, slope above its steepest sight line. Occluders front to back, occluded ones skipped (§3.4). Angles
+bin-exact, the rest rounded safe. */
 
 /* 0.23 degree bins; finer, eps / 2 columns, more steps, per-triangle tests: no gain (tests/BENCHMARKS.md, shrink). */
 #define PVS__HZ_BINS 1536
@@ -20487,8 +20489,8 @@ PVS__STATIC void pvs__hz_init(pvs__hz *z) {
 }
 PVS__STATIC double pvs__hz_lo(const pvs__hz *z, int32_t b) { return b * z->w; }
 PVS__STATIC double pvs__hz_hi(const pvs__hz *z, int32_t b) { return b + 1 == PVS__HZ_BINS ? 4.0 : (b + 1) * z->w; }
-/* Bin of pseudo-angle a, matching pvs__hz_lo / hi (w is no power of two: floor(a / w) can put an angle just below b w
-   in bin b, so a facade ending there would claim bin b - 1). */
+/* Bin of pseudo-angle a, matching pvs__hz_lo / hi (w is no power of two: floor(a / w) can put angle just below b w in
+   bin b, so facade ending there would claim bin b - 1). */
 PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
 	int32_t b = (int32_t)floor(a / z->w);
 	b = b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
@@ -20504,7 +20506,7 @@ PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], c
 	return (p[0] * ey - p[1] * ex) / den * z->dlen[k];
 }
 
-/* Bin b's part [a0, a1] covered by a facade seen from outside, crossed at d0, d1; line nearest at (afoot, dfoot). */
+/* Bin b's part [a0, a1] covered by facade seen from outside, crossed at d0, d1; line nearest at (afoot, dfoot). */
 PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot,
 							   double afoot) {
 	double lo, hi;
@@ -20554,7 +20556,7 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, d1;
 	int32_t b0, b1, k;
-	/* eye-relative, swapped (p to q counter-clockwise seen from outside) */
+	/* eye-relative, swapped (p to q CCW seen from outside) */
 	q[0] = pf[0] - z->eu; q[1] = pf[1] - z->ev;
 	p[0] = qf[0] - z->eu; p[1] = qf[1] - z->ev;
 	cr = q[0] * p[1] - q[1] * p[0];
@@ -20562,7 +20564,7 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	if (!(pvs__dabs(cr) > 1e-12 * (q[0] * q[0] + q[1] * q[1] + p[0] * p[0] + p[1] * p[1]))) return; /* seen edge-on */
 	/* occluder left of pf -> qf; only facades seen from outside matter: sight lines enter through one */
 	if (!(cr < 0.0)) return;
-	/* counter-clockwise from p (angle a) to q (angle b), under a half turn */
+	/* CCW from p (angle a) to q (angle b), under a half turn */
 	a = pvs__hz_angle(p[0], p[1]);
 	b = pvs__hz_angle(q[0], q[1]);
 	t = -(p[0] * (q[0] - p[0]) + p[1] * (q[1] - p[1])) / len2;
@@ -20608,11 +20610,11 @@ PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
 }
 
 /* Bins [*b0, *b1] (b1 >= BINS if wrapping) and ground distances *dmin, *dmax from eye of rectangle u0..u1, v0..v1; 0 if
-   eye in or on it. Span runs counter-clockwise between silhouette corners. */
+   eye in or on it. Span runs CCW between silhouette corners. */
 PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1,
 							 double *dmin, double *dmax) {
-	/* corners where rectangle starts and ends counter-clockwise, by region 3 rx + ry: bits 3, 2 (start) and 1, 0 (end)
-	   pick x1 over x0, y1 over y0 */
+	/* corners where rectangle starts and ends CCW, by region 3 rx + ry: bits 3, 2 (start) and 1, 0 (end) pick x1 over
+	   x0, y1 over y0 */
 	static const unsigned char ends[9] = {9, 1, 3, 8, 0, 7, 12, 14, 6};
 	double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, as, ae, xs[2], ys[2];
 	int e, rx = x0 > 0.0 ? 0
@@ -20728,7 +20730,7 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
 	}
 }
 
-/* A cell's three walks (pvs_shrink_cell checks o->scene is cell's). */
+/* Cell's three walks (pvs_shrink_cell checks o->scene is cell's). */
 typedef struct pvs__shrink_walk {
 	const pvs_occluders *o;
 	pvs__hz *hz;
@@ -20739,7 +20741,7 @@ typedef struct pvs__shrink_walk {
 	int u, v;
 } pvs__shrink_walk;
 #define PVS__SHRINK_NEAR 0 /* objects meeting cell or under its top face: visible unsampled */
-#define PVS__SHRINK_SAMPLE 1 /* a sample's objects, nodes hidden from it (§3.4) or all found skipped */
+#define PVS__SHRINK_SAMPLE 1 /* sample's objects, nodes hidden from it (§3.4) or all found skipped */
 #define PVS__SHRINK_HORIZON 2 /* sample's horizon: chains, nearer child first, hidden skipped (§3.4) */
 
 PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
@@ -20761,7 +20763,7 @@ PVS__STATIC void pvs__shrink_found(pvs__shrink_walk *w, uint32_t ob) {
 	for (nd = w->o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = w->o->bvh.nodes[nd].parent) --w->remaining[nd];
 }
 
-/* A walk (PVS__SHRINK_*) over object hierarchy, or chains' for HORIZON; stack: slot per node. */
+/* Walk (PVS__SHRINK_*) over object hierarchy, or chains' for HORIZON; stack: slot per node. */
 PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *stack) {
 	const pvs__obvh *h = mode == PVS__SHRINK_HORIZON ? &w->o->chain_bvh : &w->o->bvh;
 	uint32_t sp = 0, k;
@@ -20793,8 +20795,8 @@ PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *
 }
 
 /* §3: "sample points need only be placed on the edges of the top of the view cells". Heightfield occluder O, point P
-   outside cell's footprint R, V on top face (height H) seeing P. In the vertical plane through P, V the ground segment
-   crosses R's boundary at W'. If P is not above H, P-W' lies above P-V: W' sees P; else V moved away from P to boundary
+   outside cell's footprint R, V on top face (height H) seeing P. In vertical plane through P, V the ground segment
+   crosses R's boundary at W'. If P not above H, P-W' lies above P-V: W' sees P; else V moved away from P to boundary
    point W: P-W stays above P-V up to V, above H beyond, where no column of O in R reaches. With O the shrunk occluder's
    eps-neighbourhood (no real sight line enters it), edges decide if no column within eps of R rises above H - eps (with
    appendix's theorem). */
@@ -20810,9 +20812,9 @@ PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box 
 	return 1;
 }
 
-/* The 2.5D path (§3): samples on cell's top face (a 2.5D occluder hides from a point only what it hides from all
-   points above it): on its edges every 2 eps if pvs__shrink_edges_suffice allows, else a grid of spacing eps sqrt(2);
-   per sample its horizon (§3.4) and objects it may see. */
+/* 2.5D path (§3): samples on cell's top face (2.5D occluder hides from point only what it hides from all points above
+   it): on its edges every 2 eps if pvs__shrink_edges_suffice allows, else grid of spacing eps sqrt(2); per sample its
+   horizon (§3.4) and objects it may see. */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
 									   pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
 	pvs__shrink_walk w;
@@ -20885,7 +20887,7 @@ done:
 #define PVS__SHRINK_RES 64u
 
 /* 1 if box bx may reach into view from p along axis dax (positive if pos): lateral offsets within 1.1 x distance ahead,
-   a superset of 1.6 rad square frustum with room for rounding. *dn, *df: least, greatest depth. */
+   superset of 1.6 rad square frustum with room for rounding. *dn, *df: least, greatest depth. */
 PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, int pos, double *dn, double *df) {
 	int l;
 	double lim;
@@ -20912,7 +20914,7 @@ PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax
 	return 1;
 }
 
-/* The 3D path's per-cell state. */
+/* 3D path's per-cell state. */
 typedef struct pvs__shrink3d {
 	const pvs_scene *s;
 	const pvs_occluders *o;
@@ -21016,9 +21018,9 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
 	return PVS_OK;
 }
 
-/* The 3D path (§2.1, 2.3): samples on cell's six faces at spacing <= eps sqrt(2) (sight lines from inside leave
-   through boundary, all within eps of a sample), each a cube of six depth maps of eroded boxes; PVS: their union.
-   Objects within twice near distance are set (cube sees nothing nearer than its near plane). */
+/* 3D path (§2.1, 2.3): samples on cell's six faces at spacing <= eps sqrt(2) (sight lines from inside leave through
+   boundary, all within eps of sample), each a cube of six depth maps of eroded boxes; PVS: their union. Objects within
+   twice near distance are set (cube sees nothing nearer than its near plane). */
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
 									  pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
 	pvs_raster_desc rd;
@@ -21052,7 +21054,7 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
 		goto done;
 	}
 	memset(w.seen, 0, (words ? words : 1) * sizeof(pvs_word));
-	memcpy(w.seen, visible, words * sizeof(pvs_word)); /* objects set on entry are not tested */
+	memcpy(w.seen, visible, words * sizeof(pvs_word)); /* objects set on entry not tested */
 	for (i = 0; i < nb; ++i) {
 		const pvs_box *bx = o->boxes + i;
 		uint32_t c;
@@ -21104,7 +21106,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 	st.mode = mode;
 	st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
 	{
-		/* leaking cell synthesis left out (or a box in one): solid is proved for others only */
+		/* leaking cell synthesis left out (or box in one): solid is proved for others only */
 		uint32_t i;
 		int k;
 		for (i = 0; i < o->info.excluded_cells && !st.excluded; ++i) {
@@ -21114,7 +21116,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 		}
 	}
 	if (st.occluders == 0 || st.excluded) {
-		/* nothing survived erosion, or a left-out cell */
+		/* nothing survived erosion, or left-out cell */
 		uint32_t i;
 		for (i = 0; i < s->object_count; ++i)
 			if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i))
@@ -21137,10 +21139,10 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 	return res;
 }
 
-/* ---- the SHRINK bake method (a row of >>bake's table) ---- */
+/* ---- SHRINK bake method (row of >>bake's table) ---- */
 
 /* Default eps: an eighth of cells' median smallest ground extent (Wonka 2000 §4.1: 1 m for cells of several metres),
-   in double (a cell 6e38 wide has no float extent), clamped to [a millionth of scene's diagonal (no underflow to 0),
+   in double (cell 6e38 wide has no float extent), clamped to [a millionth of scene's diagonal (no underflow to 0),
    diagonal]. Any eps > 0 is conservative. */
 PVS__STATIC double pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
 	double e = (double)c->max[u] - c->min[u], f = (double)c->max[v] - c->min[v];
@@ -21268,7 +21270,7 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 	pvs__free(&sh->allocator, sh, sizeof(*sh), 16);
 }
 
-/* AUTO's price of SHRINK: a depth cube per sample point on cell's faces (pvs__shrink_face): class 3 for a mean of 294
+/* AUTO's price of SHRINK: depth cube per sample point on cell's faces (pvs__shrink_face): class 3 for mean of 294
    points (cube of side 8 eps), +1 per doubling. */
 PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc, const void *state) {
 	pvs_box sb = pvs_scene_bounds(desc->scene);
@@ -21300,7 +21302,7 @@ PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) {
 }
 
 // >>bake
-/* ==== bake: validated cells, a task per cell, results in cell order whatever run order ==== */
+/* ==== bake: validated cells, task per cell, results in cell order whatever run order ==== */
 
 struct pvs_bake {
 	pvs__bake_env env; /* what methods see */
@@ -21331,7 +21333,7 @@ struct pvs_bake {
 	unsigned char *restored; /* per task: restored (no stats) */
 	float max_distance;
 	unsigned char *cell_flags; /* per task, written by it: PVS__BAKE_* */
-	uint32_t drawable; /* objects that can be in a PVS */
+	uint32_t drawable; /* objects that can be in PVS */
 	uint32_t adaptive_budget; /* adaptive cells (§6.1); 0 = off */
 	float adaptive_min_size;
 	uint32_t *object_triangles;/* adaptive: triangles per object */
@@ -21633,7 +21635,7 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 }
 
 /* AUTO's sample (CONCEPTS, Methods): applicable methods prepared for PVS_AUTO_SAMPLE_CELLS cells spread over all cells
-   (a shard's too: shards decide alike), each baking them alone. Greedily, smallest PVS's method kept (ties: cheaper),
+   (shard's too: shards decide alike), each baking them alone. Greedily, smallest PVS's method kept (ties: cheaper),
    then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it, doubled per class (pvs__bake_price)
    above first kept's, halved below. The kept are prepared for every cell. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
@@ -21839,7 +21841,7 @@ PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, 
 	return PVS_OK;
 }
 
-/* A PVS's triangles (polygon budget, §6.1). */
+/* PVS's triangles (polygon budget, §6.1). */
 PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits) {
 	uint64_t n = 0;
 	uint32_t o;
@@ -21897,7 +21899,7 @@ PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell
 	return PVS_OK;
 }
 
-/* A task's adaptive leaves below its PVS `bits`, from scratch. */
+/* Task's adaptive leaves below its PVS `bits`, from scratch. */
 PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_word *bits,
 									   pvs_error *err) {
 	const pvs_box *c = b->cells + task;
@@ -21931,7 +21933,7 @@ PVS__STATIC pvs_result pvs__bake_task(pvs_bake *b, uint32_t task, uint32_t cell,
 		r = pvs__bake_method_cell(b, b->run[0], task, cell, b->cells + task, NULL, bits, err);
 		if (r != PVS_OK) return r;
 		own[0] = pvs_bitset_count(bits, b->object_count);
-		sole[0] = own[0] < b->drawable ? b->drawable - own[0] : 0; /* occluder-only objects never in a PVS */
+		sole[0] = own[0] < b->drawable ? b->drawable - own[0] : 0; /* occluder-only objects never in PVS */
 		pvs__bake_distance(b, b->cells + task, bits);
 	} else {
 		/* AUTO: sole[k], what method k alone leaves out of intersection */
@@ -22406,7 +22408,7 @@ PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__cod
 	}
 }
 
-/* What a decoded set does to bitset. */
+/* What decoded set does to bitset. */
 enum { PVS__SET_CHECK = 0, PVS__SET_ADD = 1, PVS__SET_REMOVE_RANKS = 2 };
 typedef struct pvs__sink {
 	int action;
@@ -22644,7 +22646,7 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
 #ifndef PVS_RUNTIME_ONLY /* encoder */
 /* ---- encoder ---- */
 
-/* Compact bake's task PVS: coding byte, then pvs__set_write's body (re-running a task replaces it). */
+/* Compact bake's task PVS: coding byte, then pvs__set_write's body (re-running task replaces it). */
 PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word *bits, pvs_error *err) {
 	pvs__coded c = pvs__set_measure(bits, b->object_count);
 	uint8_t *p = (uint8_t *)pvs__alloc_array(&b->env.allocator, c.bytes + 1, 1);
@@ -22674,7 +22676,7 @@ PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_w
 }
 
 typedef struct pvs__heapent {
-	uint32_t weight, node, from; /* from: base cell + 1; 0: virtual root (a key) */
+	uint32_t weight, node, from; /* from: base cell + 1; 0: virtual root (key) */
 } pvs__heapent;
 
 PVS__STATIC int pvs__heap_less(const void *pa, const void *pb) {
@@ -23588,8 +23590,8 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 	return PVS_OK;
 }
 
-/* RECS: each record's structure, then chains: depth falls by one per base, so chains reach a key within max_chain
-   steps, cannot cycle. Linear in section. */
+/* RECS: each record's structure, then chains: depth falls by one per base, so chains reach key within max_chain steps,
+   cannot cycle. Linear in section. */
 PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size,
 										 pvs_error *err) {
 	uint64_t off = (uint64_t)(rs - base);
