@@ -16189,7 +16189,8 @@ PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const pvs__po_wind *w, double e
 }
 
 /* Source of lines crossing portal q from its leaf `from`: cell box clipped to that leaf's side of q's plane, each
-   vertex on a clipped face. 0 if box wholly on other side (no line from cell crosses q so). */
+   vertex on a clipped face, in c; a box the plane leaves whole: f->box, made once. NULL if box wholly on other side
+   (no line from cell crosses q so). */
 PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__po_set *c) {
 	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
 										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
