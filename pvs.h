@@ -3265,7 +3265,7 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 #define PVS__TWIN(t, f, params, args) \
 	__attribute__((target("avx2"), flatten)) PVS__STATIC t f##2 params { return f args; }
 #define PVS__ISA(r, f, args) ((r)->avx2 ? f##2 args : f args)
-#define PVS__CPU_AVX2() __builtin_cpu_supports("avx2")
+#define PVS__CPU_AVX2() (__builtin_cpu_init(), __builtin_cpu_supports("avx2")) /* init: before constructors too */
 #else
 #define PVS__TWIN(t, f, params, args)
 #define PVS__ISA(r, f, args) f args
