@@ -471,7 +471,7 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, flo
 #define PVS_RASTER_SCALAR 1u /* scalar code even where SIMD is compiled in (identical results) */
 #define PVS_RASTER_PER_PIXEL 2u /* occluders keep a depth per pixel */
 #define PVS_RASTER_TILED 4u /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
-#define PVS_RASTER_SSE2 8u /* no AVX2 code where the CPU has it (GCC, Clang: run-time choice; identical results) */
+#define PVS_RASTER_SSE2 8u /* not the AVX2 twins chosen at run time (GCC, Clang, no -mavx2; identical results) */
 
 /* Zero fields get defaults. */
 typedef struct pvs_raster_desc {
@@ -3259,7 +3259,8 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 #include <arm_neon.h>
 #endif
 /* AVX2 twins (issue 31): GCC and Clang build hot f again as f2 for AVX2 (flatten: with all it calls; VEX, wider loops,
-   no FMA: the same bits), run when the CPU has it (PVS__ISA). MSVC: /arch:AVX2 builds all so. */
+   no FMA: the same bits), run when the CPU has it (PVS__ISA); f returns a value (0 if none). MSVC: /arch:AVX2 builds
+   all so. */
 #if defined(PVS__SSE2) && !defined(__AVX2__) && (defined(__x86_64__) || defined(__i386__)) && \
 	(defined(__clang__) || __GNUC__ >= 5)
 #define PVS__TWIN(t, f, params, args) \
