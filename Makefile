@@ -11,13 +11,13 @@ CFLAGS_sanitize := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -
 CFLAGS_scalar   := -O2 -g -DPVS_NO_SIMD
 CFLAGS  := -std=c99 $(WARN) $(CFLAGS_$(CONFIG))
 LDLIBS  := -lm -lpthread
-TEST_CFLAGS := -std=c99 -Wall -Wextra -Wshadow -Werror -Og -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+TEST_CFLAGS := -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
 
 TOOL_LIB := tools/mesh.c tools/bsp.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tools/pvs_impl.c
 TOOL_HDR := pvs.h tools/bsp.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cli.h tools/render.h
 TOOL_OBJ := $(patsubst tools/%.c,$(B)/obj/%.o,$(TOOL_LIB))
 TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen $(B)/pvsview $(B)/pvsimport
-TEST_SRC := tests/impl.c tests/test_extproj.c tests/test_noalloc.c tests/main.c tests/test_core.c tests/test_format.c tests/test_kdtree.c \
+TEST_SRC := tests/test_extproj.c tests/test_noalloc.c tests/main.c tests/test_core.c tests/test_format.c tests/test_kdtree.c \
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c \
             tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tests/test_bsp.c tests/test_portal.c tests/test_seethrough.c tests/test_walkable.c tools/mesh.c tools/bsp.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
@@ -47,9 +47,10 @@ compile-checks: tests/compile_check.c pvs.h
 	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror -DPVS_RUNTIME_ONLY -fsyntax-only tests/compile_check.c
 	$(CXX) -x c++ -std=c++11 -pedantic -Wall -Wextra -Werror -DPVS_RUNTIME_ONLY -fsyntax-only tests/compile_check.c
 
-# one object per source, so that make -j compiles them side by side (the three that hold a copy of the
-# implementation first: they take longest)
+# one object per source, so that make -j compiles them side by side (the two that hold a copy of the
+# implementation first: they take longest). test_extproj.c's copy is the one the tests link against.
 TEST_OBJ := $(patsubst %.c,$(B)/tobj/%.o,$(TEST_SRC))
+$(B)/tobj/tests/test_extproj.o: TEST_CFLAGS += -DTEST_SHARED_IMPL
 $(B)/tobj/%.o: %.c tests/test.h $(TOOL_HDR)
 	@mkdir -p $(dir $@)
 	$(CC) $(TEST_CFLAGS) -c -o $@ $<
@@ -83,7 +84,7 @@ QEMU_AARCH64 ?= qemu-aarch64
 test-neon:
 	@if command -v $(AARCH64_CC) >/dev/null 2>&1 && command -v $(QEMU_AARCH64) >/dev/null 2>&1; then \
 	  mkdir -p $(B)/neon && \
-	  $(AARCH64_CC) -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -static -o $(B)/neon/pvstest $(TEST_SRC) $(LDLIBS) && \
+	  $(AARCH64_CC) -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -static -DTEST_SHARED_IMPL -o $(B)/neon/pvstest $(TEST_SRC) $(LDLIBS) && \
 	  cd $(B) && $(QEMU_AARCH64) ./neon/pvstest raster; \
 	else echo "test-neon: $(AARCH64_CC) or $(QEMU_AARCH64) not found, skipped"; fi
 

@@ -1,3 +1,3 @@
-/* impl.c - the one translation unit of the tests that holds the implementation. */
+/* impl.c - the implementation for the fuzzing builds (make fuzz); pvstest links test_extproj.c's. */
 #define PVS_IMPLEMENTATION
 #include "../pvs.h"

@@ -6,9 +6,12 @@
    and the occluders extended through them, the sweep's reprojection (§5.1), and the bake against ray
    sampling on small generated scenes (0 misses), with and without the sweep; and PORTAL's fast kernels against
    their plain forms (this file's private copy of the implementation reaches them). */
-/* This file holds a private copy of the implementation (PVS_STATIC) so that it can test the
-   method's internals (improved Projection, slices, sheets, reprojection) against brute force. */
+/* This file holds the implementation so that it can test the method's internals (improved Projection,
+   slices, sheets, reprojection) against brute force: in pvstest (-DTEST_SHARED_IMPL) the one copy every
+   test links against, elsewhere (verify_extproj) a private one (PVS_STATIC). */
+#ifndef TEST_SHARED_IMPL
 #define PVS_STATIC
+#endif
 #define PVS_IMPLEMENTATION
 #include "../pvs.h"
 #include "../tools/gen.h"
