@@ -1,4 +1,4 @@
-/* pvs.h - v0.9.7 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.10.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -136,12 +136,14 @@
 
    ALGORITHMS: README.md, "Algorithms", lists the papers; each is cited where implemented.
 
-   FILE FORMAT (version 1; the byte layout, rule by rule with each rule's error code: README.md, "The file")
+   FILE FORMAT (version 2; the byte layout, rule by rule with each rule's error code: README.md, "The file")
    ===========
    The delta-PVS of Durand et al. 2000 (§6.2): key cells store their PVS whole, others what differs from a base cell,
    chains bounded by K. Little-endian: a 32-byte header, a table of CRC-checked sections: META, CELL (boxes), TREE
-   (look-up), RECS (records, each set coded as gap varints, runs, Rice codes or a bitset); optional SHRD, VOCC, SCNE,
-   NAME. Readers skip unknown tags; pvs_file_open checks every rule in linear time.
+   (look-up), RECS (records: each bit arithmetic-coded in a context of base's bits and its neighbours), MODL (the
+   contexts' probabilities, an object order putting objects seen together side by side); optional SHRD, VOCC, SCNE,
+   NAME. Readers skip unknown tags; pvs_file_open checks every rule in linear time. Version 1 files: BAD_VERSION,
+   re-bake.
 
    HISTORY: at the end.
 */
@@ -153,10 +155,10 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 9
-#define PVS_VERSION_PATCH 7
+#define PVS_VERSION_MINOR 10
+#define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
-#define PVS_FORMAT_VERSION 1
+#define PVS_FORMAT_VERSION 2
 
 #ifndef PVS_API
 #ifdef PVS_STATIC
@@ -1091,7 +1093,7 @@ typedef struct pvs_bake_desc {
    occluders per plane unless set, no sweep, object kD-tree nodes decided whole under a quarter radian or past 4,096 box
    tests. SHRINK doubles its derived eps. */
 #define PVS_BAKE_PREVIEW 1u
-/* PVS_BAKE_COMPACT: finished cells' PVSs kept coded (file's set coding), not in a cells x objects bit table: memory
+/* PVS_BAKE_COMPACT: finished cells' PVSs kept coded (file's record coding), not in a cells x objects bit table: memory
    grows with PVS sizes; also chosen if table would exceed PVS_BAKE_COMPACT_BYTES. Files byte-identical either way;
    pvs_bake_cell_pvs then decodes into one buffer of bake. */
 #define PVS_BAKE_COMPACT 2u
@@ -1260,6 +1262,9 @@ typedef struct pvs_file {
 		uint32_t tree_depth;
 		const uint8_t *records; /* RECS */
 		uint32_t records_size, block_count;
+		const uint8_t *order; /* MODL: object order, order_bits each; 0 bits: identity */
+		uint32_t order_bits, order_bytes;
+		uint16_t prob[76]; /* MODL: record coding's probabilities */
 		const uint8_t *vocc; /* VOCC */
 		uint32_t vocc_size;
 		const uint8_t *names; /* NAME: end offsets, then text; NULL without */
@@ -1275,11 +1280,8 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, 
 typedef struct pvs_record_info {
 	uint32_t base; /* delta's base cell, PVS_NO_CELL for a key cell */
 	uint32_t depth; /* deltas applied to decode it (0 for a key cell) */
-	uint32_t coding; /* of (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
 	uint32_t bytes; /* record size */
-	uint32_t base_size; /* a delta: size of base's PVS */
 } pvs_record_info;
-#define PVS_CODING_COUNT 4
 /* Fills *info for cell < cell_count. No allocation. */
 PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
 
@@ -22170,7 +22172,7 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #endif /* PVS_RUNTIME_ONLY */
 
 // >>format
-/* ==== format: .pvs file (layout: manual): delta-PVS encoder (Durand et al. 2000, §6.2), set codings, validating
+/* ==== format: .pvs file (layout: manual): delta-PVS encoder (Durand et al. 2000, §6.2), record coding, validating
    zero-copy reader ==== */
 
 #define PVS__HEADER_SIZE 32u
@@ -22184,7 +22186,6 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__BLOCK 16u /* records per RECS offset block */
 #define PVS__CANDIDATES 8u /* base candidates per cell: nearest by sweep */
 #define PVS__TREE_LEAF 4u /* most cells per look-up leaf */
-#define PVS__RICE_MAX_K 24u
 #define PVS__TAG(a, b, c, d) ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
 #define PVS__TAG_META PVS__TAG('M', 'E', 'T', 'A')
 #define PVS__TAG_CELL PVS__TAG('C', 'E', 'L', 'L')
@@ -22193,7 +22194,11 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__TAG_SHRD PVS__TAG('S', 'H', 'R', 'D')
 #define PVS__TAG_SCNE PVS__TAG('S', 'C', 'N', 'E')
 #define PVS__TAG_NAME PVS__TAG('N', 'A', 'M', 'E')
-enum { PVS__CODING_GAPS = 0, PVS__CODING_RUNS = 1, PVS__CODING_RICE = 2, PVS__CODING_BITMAP = 3 };
+#define PVS__TAG_MODL PVS__TAG('M', 'O', 'D', 'L')
+#define PVS__CTX_COUNT 76u /* record coding's contexts */
+#define PVS__MODL_HEAD (8u + 2u * PVS__CTX_COUNT)
+#define PVS__ORDER_SAMPLE 2048u /* cells whose PVSs order objects */
+#define PVS__ORDER_WINDOW 1024u /* unused objects each step of the order searches */
 
 PVS__STATIC size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 
@@ -22274,406 +22279,182 @@ PVS__STATIC uint64_t pvs__load64(const uint8_t *s) { /* little-endian; one load 
 		   (uint64_t)s[5] << 40 | (uint64_t)s[6] << 48 | (uint64_t)s[7] << 56;
 }
 
-/* Bits [bit, bit + 56) of nbits-bit stream, LSB first, zeros past its end. */
-PVS__STATIC uint64_t pvs__peek56(const uint8_t *s, uint64_t nbits, uint64_t bit) {
-	size_t at = (size_t)(bit >> 3), n = (size_t)((nbits + 7) >> 3), i;
-	uint64_t v = 0;
-	if (at + 8 <= n) {
-		v = pvs__load64(s + at);
-	} else {
-		for (i = 0; at + i < n; ++i) v |= (uint64_t)s[at + i] << (8 * i);
-	}
-	return (v >> (bit & 7u)) & (((uint64_t)1 << 56) - 1u);
-}
 
-/* bit_count if none. */
-PVS__STATIC uint32_t pvs__bitset_next_clear(const pvs_word *bits, uint32_t bit_count, uint32_t from) {
-	uint32_t w;
-	pvs_word x;
-	if (from >= bit_count) return bit_count;
-	w = from >> 6;
-	x = ~bits[w] & (~(pvs_word)0 << (from & 63));
-	while (!x) {
-		if ((++w << 6) >= bit_count) return bit_count;
-		x = ~bits[w];
-	}
-	w = (w << 6) + pvs__ctz64(x);
-	return w < bit_count ? w : bit_count;
-}
 
 PVS__STATIC uint32_t pvs__zigzag(int64_t d) { return (uint32_t)(d >= 0 ? 2 * (uint64_t)d : 2 * (uint64_t)(-d) - 1u); }
 PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z >> 1) + 1u) : (int64_t)(z >> 1); }
 
-/* ---- set codings ---- */
+/* ---- record coding: each bit of a cell's PVS, in file's object order, by binary arithmetic coding (Witten, Neal and
+   Cleary 1987; carryless 32-bit bounds as in Mahoney's PAQ) with file's fixed probability per context: bit in base cell
+   (none for a key), its neighbours there, bits just coded. A 64-object word equal to base's costs one flag, so a delta
+   decodes in time of its changed words. ---- */
 
-/* Four codings (bytes: manual): Rice codes (Golomb codes, power-of-two divisor) suit sparse random sets, runs ranges of
-   spatially ordered objects; bitset caps worst case at n / 8 bytes. */
-typedef struct pvs__coded {
-	uint32_t coding, rice_k;
-	size_t bytes; /* body size */
-} pvs__coded;
+/* Encodes when in == NULL (bytes to out, only counted if out is NULL; or counts contexts), else decodes from
+   in[0..end), zeros past end. */
+typedef struct pvs__ac {
+	uint32_t x1, x2, x;
+	uint8_t *out;
+	const uint8_t *in, *end;
+	size_t n; /* bytes out */
+	uint32_t *counts; /* encoder: 2 per context, instead of coding */
+	const uint16_t *prob; /* of a 1, 12 bits, 1..4095 */
+	uint16_t *learn; /* instead of prob: adapted after each bit (compact bake's PVSs) */
+} pvs__ac;
 
-PVS__STATIC pvs__coded pvs__set_measure(const pvs_word *bits, uint32_t n) {
-	uint64_t rice_bits[PVS__RICE_MAX_K + 1], shifted[PVS__RICE_MAX_K + 1];
-	size_t gaps = 0, runs = 0;
-	uint32_t count = 0, pairs = 0, k, pos = 0;
-	pvs__coded best;
-	memset(shifted, 0, sizeof(shifted));
-	/* run of L ids after z absent ones gives gaps z, 0, ..., 0: sizes sum over runs, not ids */
-	while (pos < n) {
-		uint32_t one = pvs_bitset_next(bits, n, pos), zero, z, len;
-		if (one >= n) break;
-		zero = pvs__bitset_next_clear(bits, n, one);
-		z = one - pos;
-		len = zero - one;
-		runs += pvs__varint_size(z) + pvs__varint_size(len - 1);
-		gaps += pvs__varint_size(z) + (len - 1); /* gap of 0 takes a byte */
-		for (k = 0; k <= PVS__RICE_MAX_K; ++k) shifted[k] += z >> k;
-		count += len;
-		++pairs;
-		pos = zero;
+PVS__STATIC void pvs__ac_init(pvs__ac *a, const uint8_t *in, const uint8_t *end) {
+	int k;
+	a->x1 = 0;
+	a->x2 = 0xffffffffu;
+	a->x = 0;
+	a->in = in;
+	a->end = end;
+	for (k = 0; in && k < 4; ++k) a->x = (a->x << 8) | (a->in < a->end ? *a->in++ : 0u);
+}
+/* Codes bit y (encoder) or returns bit decoded, in context ctx. */
+PVS__STATIC uint32_t pvs__ac_bit(pvs__ac *a, uint32_t ctx, uint32_t y) {
+	uint32_t mid;
+	if (a->counts) {
+		++a->counts[2 * ctx + y];
+		return y;
 	}
-	for (k = 0; k <= PVS__RICE_MAX_K; ++k) rice_bits[k] = (uint64_t)count * (1u + k) + shifted[k];
-	best.coding = PVS__CODING_GAPS;
-	best.rice_k = 0;
-	best.bytes = pvs__varint_size(count) + gaps;
-	if (pvs__varint_size(pairs) + runs < best.bytes) {
-		best.coding = PVS__CODING_RUNS;
-		best.bytes = pvs__varint_size(pairs) + runs;
+	mid = a->x1 + (uint32_t)(((uint64_t)(a->x2 - a->x1) * (a->learn ? a->learn : a->prob)[ctx]) >> 12);
+	if (a->in) y = a->x <= mid;
+	if (y) a->x2 = mid;
+	else a->x1 = mid + 1u;
+	if (a->learn) { /* toward the bit coded, 1/16 of the way */
+		uint32_t p = a->learn[ctx];
+		a->learn[ctx] = (uint16_t)(y ? p + ((4096u - p) >> 4) : p - (p >> 4));
 	}
-	for (k = 0; k <= PVS__RICE_MAX_K; ++k) {
-		size_t b = 1 + pvs__varint_size(count) + (size_t)((rice_bits[k] + 7) / 8);
-		if (b < best.bytes) {
-			best.coding = PVS__CODING_RICE;
-			best.rice_k = k;
-			best.bytes = b;
-		}
+	while (!((a->x1 ^ a->x2) >> 24)) { /* top bytes agree: settled */
+		if (a->in) a->x = (a->x << 8) | (a->in < a->end ? *a->in++ : 0u);
+		else if (a->out) a->out[a->n++] = (uint8_t)(a->x2 >> 24);
+		else ++a->n;
+		a->x1 <<= 8;
+		a->x2 = (a->x2 << 8) | 255u;
 	}
-	if (((size_t)n + 7) / 8 < best.bytes) {
-		best.coding = PVS__CODING_BITMAP;
-		best.bytes = ((size_t)n + 7) / 8;
-	}
-	return best;
+	return y;
 }
 
-/* c->bytes bytes at out, zeroed first. */
-PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__coded *c, uint8_t *out) {
-	uint8_t *o = out;
-	uint32_t i, prev = 0, count = 0, pos = 0;
-	memset(out, 0, c->bytes);
-	switch (c->coding) {
-	case PVS__CODING_GAPS:
-		o += pvs__put_varint(o, pvs_bitset_count(bits, n));
-		for (i = pvs_bitset_next(bits, n, 0); i < n; i = pvs_bitset_next(bits, n, i + 1)) {
-			o += pvs__put_varint(o, count ? i - prev - 1 : i);
-			prev = i;
-			++count;
-		}
-		break;
-	case PVS__CODING_RUNS: {
-		uint32_t pairs = 0;
-		while (pos < n) {
-			uint32_t one = pvs_bitset_next(bits, n, pos);
-			if (one >= n) break;
-			pos = pvs__bitset_next_clear(bits, n, one);
-			++pairs;
-		}
-		o += pvs__put_varint(o, pairs);
-		pos = 0;
-		while (pairs--) {
-			uint32_t one = pvs_bitset_next(bits, n, pos), zero = pvs__bitset_next_clear(bits, n, one);
-			o += pvs__put_varint(o, one - pos);
-			o += pvs__put_varint(o, zero - one - 1);
-			pos = zero;
-		}
-		break;
-	}
-	case PVS__CODING_RICE: {
-		uint64_t bit = 0;
-		uint32_t k = c->rice_k;
-		*o++ = (uint8_t)k;
-		o += pvs__put_varint(o, pvs_bitset_count(bits, n));
-		for (i = pvs_bitset_next(bits, n, 0); i < n; i = pvs_bitset_next(bits, n, i + 1)) {
-			uint32_t g = count ? i - prev - 1 : i, q = g >> k, j;
-			for (j = 0; j < q; ++j, ++bit) o[bit >> 3] |= (uint8_t)(1u << (bit & 7u));
-			++bit; /* terminating zero */
-			pvs__put_bits(o, bit, g & (k ? (uint32_t)((((uint64_t)1) << k) - 1u) : 0u), k);
-			bit += k;
-			prev = i;
-			++count;
-		}
-		break;
-	}
-	default: /* bitmap */
-		for (i = 0; i < (n + 7) / 8; ++i) out[i] = (uint8_t)(bits[i >> 3] >> (8 * (i & 7)));
-		break;
-	}
+#define PVS__CTX_FLAG 64u /* after the 64 bit contexts, 4 word flags (key, previous word changed), 4 byte flags */
+#define PVS__CTX_BYTE 68u
+/* Bit's context: key, base bit, previous bit and its base bit, next base bit, bit before previous. */
+#define PVS__CTX(key, b, pc, pb, nb, pc2) ((key) | (b) << 1 | (pc) << 2 | (pb) << 3 | (nb) << 4 | (pc2) << 5)
+
+/* Object at position k of file's order. */
+PVS__STATIC uint32_t pvs__order_at(const pvs_file *f, uint32_t k) {
+	uint32_t w = f->private_.order_bits;
+	uint64_t at = (uint64_t)k * w;
+	if (!w) return k;
+	if ((at >> 3) + 8 <= f->private_.order_bytes) /* one load: shift + w <= 39 bits */
+		return (uint32_t)((pvs__load64(f->private_.order + (at >> 3)) >> (at & 7u)) & (((uint64_t)1 << w) - 1u));
+	return pvs__get_bits(f->private_.order, at, w);
 }
 
-/* What decoded set does to bitset. */
-enum { PVS__SET_CHECK = 0, PVS__SET_ADD = 1, PVS__SET_REMOVE_RANKS = 2 };
-typedef struct pvs__sink {
-	int action;
-	pvs_word *bits; /* PVS being built (not CHECK) */
-	uint32_t words;
-	pvs_change_fn fn; /* optional change reports */
-	void *user;
-	uint32_t w, before, removed; /* REMOVE_RANKS: scan word, set bits before it, ranks removed */
-} pvs__sink;
-
-/* Removes `count` consecutive ranks from `first` (before this set) word by word; cost: words + bits removed. */
-PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t count) {
-	uint32_t target = first - s->removed;
-	while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target)
-		s->before += pvs__popcount64(s->bits[s->w++]);
-	while (count && s->w < s->words) {
-		pvs_word x = s->bits[s->w], take;
-		uint32_t skip = target - s->before, k;
-		for (k = 0; k < skip; ++k) x &= x - 1u; /* set bits from target on */
-		take = x;
-		if (pvs__popcount64(take) > count) { /* only lowest `count` */
-			pvs_word keep = take;
-			uint64_t c;
-			for (c = 0; c < count; ++c) keep &= keep - 1u;
-			take ^= keep;
-		}
-		if (s->fn) {
-			pvs_word y = take;
-			while (y) {
-				s->fn(s->user, s->w * 64 + pvs__ctz64(y), 0);
-				y &= y - 1u;
+/* Applies record payload p[0..end) to bits in place: key (bits empty) or delta (bits: base's PVS). Any bytes give
+   some set of ids < object_count. learn: NULL, or adaptive probabilities instead of file's. */
+PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint8_t *end, uint32_t key,
+								 pvs_word *bits, uint16_t *learn) {
+	uint32_t n = f->object_count, words = (n + 63) >> 6, w, k, ch = 0, pc = 0, pb = 0, pc2 = 0, o, on;
+	uint32_t x1 = 0, x2 = 0xffffffffu, x = 0, y, mid, ctx, q;
+	const uint16_t *prob = learn ? learn : f->private_.prob;
+	for (k = 0; k < 4; ++k) x = (x << 8) | (p < end ? *p++ : 0u);
+/* pvs__ac_bit's decoder in registers: y = bit in context ctx */
+#define PVS__AC_GET()                                                                                                  \
+	do {                                                                                                               \
+		mid = x1 + (uint32_t)(((uint64_t)(x2 - x1) * prob[ctx]) >> 12);                                                \
+		y = x <= mid;                                                                                                  \
+		if (y) x2 = mid;                                                                                               \
+		else x1 = mid + 1u;                                                                                            \
+		if (learn) q = learn[ctx], learn[ctx] = (uint16_t)(y ? q + ((4096u - q) >> 4) : q - (q >> 4));               \
+		while (!((x1 ^ x2) >> 24)) {                                                                                   \
+			x = (x << 8) | (p < end ? *p++ : 0u);                                                                      \
+			x1 <<= 8;                                                                                                  \
+			x2 = (x2 << 8) | 255u;                                                                                     \
+		}                                                                                                              \
+	} while (0)
+	on = pvs__order_at(f, 0);
+	for (w = 0; w < words; ++w) {
+		uint32_t lim = n - (w << 6) < 64 ? n - (w << 6) : 64, j, bf = 0;
+		ctx = PVS__CTX_FLAG + (key | ch << 1);
+		PVS__AC_GET();
+		ch = y;
+		for (j = 0; j < lim; j += 8) {
+			uint32_t e = j + 8 < lim ? j + 8 : lim;
+			if (ch) {
+				ctx = PVS__CTX_BYTE + (key | bf << 1 | (pc ^ pb) << 2);
+				PVS__AC_GET();
+				bf = y;
 			}
-		}
-		k = pvs__popcount64(take);
-		s->bits[s->w] &= ~take;
-		s->removed += k;
-		count -= k;
-		if (count) { /* run goes on: nothing before next words left to skip */
-			s->before += pvs__popcount64(s->bits[s->w]);
-			++s->w;
-			target = s->before;
-		}
-	}
-}
-
-/* Adds id, or removes set bit of rank id in PVS as before this set (ranks ascend). */
-PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
-	if (s->action == PVS__SET_ADD) {
-		pvs_word m = (pvs_word)1 << (id & 63);
-		if (!(s->bits[id >> 6] & m)) {
-			s->bits[id >> 6] |= m;
-			if (s->fn) s->fn(s->user, id, 1);
-		}
-	} else if (s->action == PVS__SET_REMOVE_RANKS) {
-		uint32_t target = id - s->removed, k;
-		pvs_word x;
-		while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target)
-			s->before += pvs__popcount64(s->bits[s->w++]);
-		if (s->w == s->words) return; /* damaged file: no such rank */
-		x = s->bits[s->w];
-		for (k = target - s->before; k; --k) x &= x - 1u;
-		k = pvs__ctz64(x);
-		s->bits[s->w] &= ~((pvs_word)1 << k);
-		++s->removed;
-		if (s->fn) s->fn(s->user, s->w * 64 + k, 0);
-	}
-}
-
-/* pvs__set_apply's decoders per coding (bytes: manual's RECS), same contract; on bad byte: *bad_at, error. */
-
-PVS__STATIC pvs_result pvs__set_gaps(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
-									 size_t *bad_at) {
-	const uint8_t *q = p;
-	uint32_t count, k;
-	int act = s->action;
-	uint64_t id = 0;
-	size_t used = pvs__get_varint(q, end, &count);
-	if (!used) goto bad;
-	q += used;
-	if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-	for (k = 0; k < count; ++k) {
-		uint32_t g;
-		used = pvs__get_varint(q, end, &g);
-		if (!used) goto bad;
-		id = k ? id + 1u + g : g;
-		if (id >= n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-		if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63);
-		else if (act) pvs__sink_id(s, (uint32_t)id);
-		q += used;
-	}
-	*used_out = (size_t)(q - p);
-	return PVS_OK;
-bad:
-	*bad_at = (size_t)(q - p);
-	return PVS_ERROR_BAD_RECORD;
-}
-
-PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
-									 size_t *bad_at) {
-	const uint8_t *q = p;
-	uint32_t count, k;
-	int act = s->action;
-	uint64_t pos = 0;
-	size_t used = pvs__get_varint(q, end, &count);
-	if (!used) goto bad;
-	q += used;
-	for (k = 0; k < count; ++k) {
-		uint32_t z, o;
-		uint64_t i;
-		used = pvs__get_varint(q, end, &z);
-		if (!used) goto bad;
-		if (k && !z) goto bad; /* runs of ones are maximal */
-		q += used;
-		used = pvs__get_varint(q, end, &o);
-		if (!used) goto bad;
-		if (pos + z + o + 1u > n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-		q += used;
-		pos += z;
-		if (act == PVS__SET_ADD && !s->fn) {
-			uint64_t e = pos + o + 1u;
-			while (pos < e && (pos & 63)) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
-			while (pos + 64 <= e) { s->bits[pos >> 6] = ~(pvs_word)0; pos += 64; }
-			while (pos < e) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
-		} else if (act == PVS__SET_REMOVE_RANKS) {
-			pvs__sink_remove_run(s, (uint32_t)pos, (uint64_t)o + 1u);
-			pos += (uint64_t)o + 1u;
-		} else {
-			if (act) /* keeps validation linear in record's bytes */
-				for (i = 0; i <= o; ++i) pvs__sink_id(s, (uint32_t)(pos + i));
-			pos += (uint64_t)o + 1u;
-		}
-	}
-	*used_out = (size_t)(q - p);
-	return PVS_OK;
-bad:
-	*bad_at = (size_t)(q - p);
-	return PVS_ERROR_BAD_RECORD;
-}
-
-/* Rice codes (Golomb 1966, Rice 1979). */
-PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
-									 size_t *bad_at) {
-	const uint8_t *q = p;
-	uint32_t count, k, c;
-	int act = s->action;
-	uint64_t bit = 0, nbits, id = 0, bytes;
-	size_t used;
-	if (q >= end) goto bad;
-	k = *q++;
-	if (k > PVS__RICE_MAX_K) goto bad;
-	used = pvs__get_varint(q, end, &count);
-	if (!used) goto bad;
-	q += used;
-	if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-	nbits = (uint64_t)(end - q) * 8u;
-	for (c = 0; c < count; ++c) {
-		uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
-		uint32_t ones;
-		if (~w & (((uint64_t)1 << 56) - 1u)) { /* unary run ends in window */
-			ones = pvs__ctz64(~w);
-			quot = ones;
-			if (bit + ones + 1u + k > nbits) goto bad;
-			if (quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-			g = ones + 1u + k <= 56u ? (w >> (ones + 1u)) & (((uint64_t)1 << k) - 1u)
-									 : pvs__get_bits(q, bit + ones + 1u, k);
-			bit += ones + 1u + k;
-		} else {
-			for (;;) { /* long unary run: bit by bit */
-				uint32_t b1;
-				if (bit >= nbits) goto bad;
-				b1 = (q[bit >> 3] >> (bit & 7u)) & 1u;
-				++bit;
-				if (!b1) break;
-				if (++quot > n) {
-					*bad_at = (size_t)(q - p) + (size_t)(bit >> 3);
-					return PVS_ERROR_OBJECT_OUT_OF_RANGE;
+			if (!ch || !bf) { /* byte or word as in base: its last two bits are context */
+				if (!ch) e = lim;
+				if ((w << 6) + e < n) {
+					pc2 = (uint32_t)pvs_bitset_test(bits, pvs__order_at(f, (w << 6) + e - 2));
+					pc = pb = (uint32_t)pvs_bitset_test(bits, pvs__order_at(f, (w << 6) + e - 1));
+					on = pvs__order_at(f, (w << 6) + e);
 				}
+				if (!ch) break;
+				continue;
 			}
-			if (bit + k > nbits) goto bad;
-			g = pvs__get_bits(q, bit, k);
-			bit += k;
-		}
-		g |= quot << k;
-		id = c ? id + 1u + g : g;
-		if (id >= n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-		if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63);
-		else if (act) pvs__sink_id(s, (uint32_t)id);
-	}
-	/* unused high bits of last byte: zero */
-	bytes = (bit + 7) / 8;
-	if ((bit & 7u) && (q[bit >> 3] >> (bit & 7u))) { q += (size_t)(bit >> 3); goto bad; }
-	q += (size_t)bytes;
-	*used_out = (size_t)(q - p);
-	return PVS_OK;
-bad:
-	*bad_at = (size_t)(q - p);
-	return PVS_ERROR_BAD_RECORD;
-}
-
-PVS__STATIC pvs_result pvs__set_bitmap(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
-									   size_t *bad_at) {
-	size_t nb = ((size_t)n + 7) / 8, i;
-	int act = s->action;
-	if ((size_t)(end - p) < nb) { *bad_at = 0; return PVS_ERROR_BAD_RECORD; }
-	if ((n & 7u) && (p[nb - 1] >> (n & 7u))) { *bad_at = nb - 1; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-	if (act == PVS__SET_ADD && !s->fn) {
-		for (i = 0; i < nb; ++i) s->bits[i >> 3] |= (pvs_word)p[i] << (8 * (i & 7));
-	} else if (act) {
-		for (i = 0; i < nb; ++i) {
-			uint32_t b = p[i];
-			while (b) {
-				uint32_t id = (uint32_t)(8 * i) + pvs__ctz64(b);
-				b &= b - 1u;
-				pvs__sink_id(s, id);
+			for (k = (w << 6) + j; k < (w << 6) + e; ++k) {
+				uint32_t b, nb = 0;
+				o = on;
+				if (k + 1 < n) {
+					on = pvs__order_at(f, k + 1);
+					nb = (uint32_t)(bits[on >> 6] >> (on & 63)) & 1u;
+				}
+				b = (uint32_t)(bits[o >> 6] >> (o & 63)) & 1u;
+				ctx = PVS__CTX(key, b, pc, pb, nb, pc2);
+				PVS__AC_GET();
+				if (y != b) bits[o >> 6] ^= (pvs_word)1 << (o & 63);
+				pc2 = pc;
+				pc = y;
+				pb = b;
 			}
 		}
 	}
-	*used_out = nb;
-	return PVS_OK;
+#undef PVS__AC_GET
 }
 
-/* Decodes set of ids in [0, n) coded at p (readable to end) into sink, ascending; *used: its size. PVS_OK, or
-   BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at offending offset. */
-PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs__sink *s,
-									  size_t *used_out, size_t *bad_at) {
-	switch (coding) {
-	case PVS__CODING_GAPS: return pvs__set_gaps(p, end, n, s, used_out, bad_at);
-	case PVS__CODING_RUNS: return pvs__set_runs(p, end, n, s, used_out, bad_at);
-	case PVS__CODING_RICE: return pvs__set_rice(p, end, n, s, used_out, bad_at);
-	case PVS__CODING_BITMAP: return pvs__set_bitmap(p, end, n, s, used_out, bad_at);
-	default: *bad_at = 0; return PVS_ERROR_BAD_RECORD;
-	}
-}
-
-#ifndef PVS_RUNTIME_ONLY /* encoder */
+#ifndef PVS_RUNTIME_ONLY /* bake's compact PVSs, encoder */
 /* ---- encoder ---- */
 
 /* Compact bake's task PVS: coding byte, then pvs__set_write's body (re-running task replaces it). */
+PVS__STATIC void pvs__rec_code(pvs__ac *a, const pvs_word *x, const pvs_word *y, uint32_t n);
+/* Compact bake's PVS of a task: a key record in id order, probabilities adapted as coded (re-running replaces it). */
 PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word *bits, pvs_error *err) {
-	pvs__coded c = pvs__set_measure(bits, b->object_count);
-	uint8_t *p = (uint8_t *)pvs__alloc_array(&b->env.allocator, c.bytes + 1, 1);
-	if (!p) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, task, 0, "task %u: its coded PVS", task);
-	p[0] = (uint8_t)c.coding;
-	pvs__set_write(bits, b->object_count, &c, p + 1);
+	uint16_t learn[PVS__CTX_COUNT];
+	uint8_t *p = NULL;
+	size_t n = 0;
+	int pass, k;
+	for (pass = 0; pass < 2; ++pass) { /* measure, write */
+		pvs__ac a;
+		memset(&a, 0, sizeof(a));
+		pvs__ac_init(&a, NULL, NULL);
+		for (k = 0; k < (int)PVS__CTX_COUNT; ++k) learn[k] = 2048;
+		a.learn = learn;
+		a.out = p;
+		pvs__rec_code(&a, bits, NULL, b->object_count);
+		if (p) p[a.n] = (uint8_t)(a.x2 >> 24);
+		n = a.n + 1;
+		if (!p && !(p = (uint8_t *)pvs__alloc_array(&b->env.allocator, n, 1)))
+			return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, task, 0, "task %u: its coded PVS", task);
+	}
 	pvs__free_array(&b->env.allocator, b->rec[task], b->rec_size[task], 1);
 	b->rec[task] = p;
-	b->rec_size[task] = (uint32_t)(c.bytes + 1);
+	b->rec_size[task] = (uint32_t)n;
 	return PVS_OK;
 }
-
 PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_word *buffer) {
 	const pvs_bake *b = (const pvs_bake *)bake;
-	const uint8_t *p;
-	pvs__sink s;
-	size_t used, bad;
+	uint16_t learn[PVS__CTX_COUNT];
+	pvs_file f;
+	int k;
 	if (b->pvs) return b->pvs + (size_t)task * b->words;
-	p = b->rec[task];
 	memset(buffer, 0, b->words * sizeof(pvs_word));
-	memset(&s, 0, sizeof(s));
-	s.action = PVS__SET_ADD;
-	s.bits = buffer;
-	s.words = (uint32_t)b->words;
-	if (p) (void)pvs__set_apply(p + 1, p + b->rec_size[task], p[0], b->object_count, &s, &used, &bad);
+	memset(&f, 0, sizeof(f));
+	f.object_count = b->object_count;
+	for (k = 0; k < (int)PVS__CTX_COUNT; ++k) learn[k] = 2048;
+	if (b->rec[task]) pvs__rec_decode(&f, b->rec[task], b->rec[task] + b->rec_size[task], 1, buffer, learn);
 	return buffer;
 }
 
@@ -22840,10 +22621,14 @@ typedef struct pvs__encoder {
 	size_t heap_capacity;
 	uint32_t *base, *depth; /* PVS_NO_CELL for keys */
 	unsigned char *placed;
-	pvs_word *tmp, *ranks;
 	pvs_word *rows; /* pvs_row's two buffers; rows it gave, of cells row_of */
 	const pvs_word *row[2];
 	uint32_t row_of[2];
+	uint32_t *order, *pos, order_bits; /* MODL: position -> object, object -> position; 0 bits: identity */
+	pvs_word *prow; /* two rows in file's order, of cells prow_of */
+	uint32_t prow_of[2];
+	uint16_t prob[PVS__CTX_COUNT];
+	uint8_t *buf; /* one record's payload */
 } pvs__encoder;
 
 PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
@@ -22861,9 +22646,10 @@ PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
 	pvs__free_array(a, e->base, e->cells, sizeof(uint32_t));
 	pvs__free_array(a, e->depth, e->cells, sizeof(uint32_t));
 	pvs__free_array(a, e->placed, e->cells, 1);
-	pvs__free_array(a, e->tmp, e->words, sizeof(pvs_word));
-	pvs__free_array(a, e->ranks, e->words, sizeof(pvs_word));
 	pvs__free_array(a, e->rows, 2 * e->words, sizeof(pvs_word));
+	pvs__free_array(a, e->order, 2 * (size_t)e->n, sizeof(uint32_t));
+	pvs__free_array(a, e->prow, 2 * e->words, sizeof(pvs_word));
+	pvs__free_array(a, e->buf, 16 * e->words + 16, 1);
 }
 
 /* Cell i's PVS: desc's table, or pvs_row's into slot 0 (record's cell) or 1 (its base), kept while it holds i. */
@@ -22876,40 +22662,34 @@ PVS__STATIC const pvs_word *pvs__encoder_row(pvs__encoder *e, uint32_t i, int sl
 	return e->row[slot];
 }
 
-/* Cell i's record sets against base j (PVS_NO_CELL: key): e->tmp = ids added (key: whole PVS); delta's e->ranks = ids
-   removed, as ranks in base's PVS (Durand et al. 2000, §6.2; ranks among base's few visible objects are cheaper);
-   returns base's PVS size. */
-PVS__STATIC uint32_t pvs__encoder_sets(pvs__encoder *e, uint32_t i, uint32_t j) {
-	const pvs_word *x = pvs__encoder_row(e, i, 0);
-	pvs_word last = (e->n & 63) ? ((pvs_word)1 << (e->n & 63)) - 1u : ~(pvs_word)0;
-	uint32_t m = 0;
-	size_t w;
-	if (j == PVS_NO_CELL) {
-		memcpy(e->tmp, x, e->words * sizeof(pvs_word));
-	} else {
-		const pvs_word *y = pvs__encoder_row(e, j, 1);
-		memset(e->ranks, 0, e->words * sizeof(pvs_word));
-		for (w = 0; w < e->words; ++w) {
-			pvs_word base = y[w] & (w + 1 == e->words ? last : ~(pvs_word)0), gone = base & ~x[w];
-			e->tmp[w] = x[w] & ~y[w];
-			while (base) { /* rank m of base's set bits */
-				pvs_word low = base & (0u - base);
-				if (gone & low) e->ranks[m >> 6] |= (pvs_word)1 << (m & 63);
-				base ^= low;
-				++m;
+/* Cell i's PVS in file's object order, cached in slot (0: record's cell, 1: its base). */
+PVS__STATIC const pvs_word *pvs__encoder_prow(pvs__encoder *e, uint32_t i, int slot) {
+	pvs_word *p = e->prow + slot * e->words;
+	if (e->prow_of[slot] != i) {
+		const pvs_word *x = pvs__encoder_row(e, i, slot);
+		size_t w;
+		memset(p, 0, e->words * sizeof(pvs_word));
+		for (w = 0; w < e->words; ++w)
+			for (pvs_word b = x[w]; b; b &= b - 1u) {
+				uint32_t o = (uint32_t)(w * 64) + pvs__ctz64(b), k;
+				if (o >= e->n) break;
+				k = e->order_bits ? e->pos[o] : o;
+				p[k >> 6] |= (pvs_word)1 << (k & 63);
 			}
-		}
+		e->prow_of[slot] = i;
 	}
-	e->tmp[e->words - 1] &= last;
-	return m;
+	return p;
 }
-/* Record size of cell i against base j. */
+/* Estimated record bytes of cell i against base j (PVS_NO_CELL: key): a flag and the bits of each changed word. */
 PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) {
-	size_t b;
-	uint32_t m = pvs__encoder_sets(e, i, j);
-	b = pvs__set_measure(e->tmp, e->n).bytes + 2u;
-	if (j != PVS_NO_CELL) b += 2u + pvs__varint_size(m) + pvs__set_measure(e->ranks, m).bytes;
-	return b > 0xffffffffu ? 0xffffffffu : (uint32_t)b;
+	const pvs_word *x = pvs__encoder_prow(e, i, 0), *y = j == PVS_NO_CELL ? NULL : pvs__encoder_prow(e, j, 1);
+	uint64_t bits = 24;
+	size_t w;
+	for (w = 0; w < e->words; ++w) {
+		pvs_word d = x[w] ^ (y ? y[w] : 0);
+		if (d) bits += 16u + 4u * pvs__popcount64(d);
+	}
+	return bits / 8u > 0xfffffffeu ? 0xffffffffu : (uint32_t)(bits / 8u);
 }
 
 /* Bases: edges from each cell to its nearest (kD-tree sweep), virtual root joined to all at key size; Prim's tree from
@@ -22924,6 +22704,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	size_t k, m;
 	uint64_t best_size = UINT64_MAX;
 	pvs_result r = PVS_OK;
+	if (e->edges) goto choose; /* graph built by an earlier plan: only weights change with the order */
 	e->edge_capacity = (size_t)e->cells * PVS__CANDIDATES;
 	e->edges = (pvs__link *)pvs__alloc_array(a, e->edge_capacity, sizeof(pvs__link));
 	e->adj_start = (uint32_t *)pvs__alloc_array(a, (size_t)e->cells + 1, sizeof(uint32_t));
@@ -22974,8 +22755,11 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	}
 	e->heap_capacity = (size_t)e->cells + 2 * m + 1;
 	e->heap = (pvs__heapent *)pvs__alloc_array(a, e->heap_capacity, sizeof(pvs__heapent));
+	if (!e->heap) return PVS__OOM(err, "encoder heap");
+choose:
+	for (k = 0; k < 2 * e->edge_count; ++k) e->adj[2 * k + 1] = 0;
 	best = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)e->cells, sizeof(uint32_t)); /* key sizes, best bases, depths */
-	if (!e->heap || !best) {
+	if (!best) {
 		pvs__free_array(a, best, 3 * (size_t)e->cells, sizeof(uint32_t));
 		return PVS__OOM(err, "encoder heap");
 	}
@@ -23032,41 +22816,145 @@ PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint
 	return total;
 }
 
+/* Codes cell row x against base row y (NULL: key), n positions, both in file's order (pvs__rec_decode's mirror). */
+PVS__STATIC void pvs__rec_code(pvs__ac *a, const pvs_word *x, const pvs_word *y, uint32_t n) {
+	uint32_t words = (n + 63) >> 6, w, j, k, key = !y, ch = 0, pc = 0, pb = 0, pc2 = 0;
+	for (w = 0; w < words; ++w) {
+		pvs_word xw = x[w], bw = y ? y[w] : 0, nw = y && w + 1 < words ? y[w + 1] : 0;
+		uint32_t lim = n - (w << 6) < 64 ? n - (w << 6) : 64, bf = 0;
+		ch = pvs__ac_bit(a, PVS__CTX_FLAG + (key | ch << 1), xw != bw);
+		for (j = 0; j < lim; j += 8) {
+			uint32_t e = j + 8 < lim ? j + 8 : lim;
+			if (ch) bf = pvs__ac_bit(a, PVS__CTX_BYTE + (key | bf << 1 | (pc ^ pb) << 2), ((xw ^ bw) >> j & 255u) != 0);
+			if (!ch || !bf) {
+				if (!ch) e = lim;
+				pc2 = (uint32_t)(xw >> ((e - 2) & 63)) & 1u;
+				pc = pb = (uint32_t)(xw >> (e - 1)) & 1u;
+				if (!ch) break;
+				continue;
+			}
+			for (k = j; k < e; ++k) {
+				uint32_t b = (uint32_t)(bw >> k) & 1u, c = (uint32_t)(xw >> k) & 1u;
+				uint32_t nb = (uint32_t)((k < 63 ? bw >> (k + 1) : nw) & 1u);
+				(void)pvs__ac_bit(a, PVS__CTX(key, b, pc, pb, nb, pc2), c);
+				pc2 = pc;
+				pc = c;
+				pb = b;
+			}
+		}
+	}
+}
+
+/* Object order: a greedy nearest-neighbour chain over objects' visibility on up to PVS__ORDER_SAMPLE cells, so
+   objects seen together sit side by side (deltas then change few words); each step searches the first
+   PVS__ORDER_WINDOW unused objects by id (bounded: objects * window * sample / 64 steps). */
+PVS__STATIC pvs_result pvs__encoder_order(pvs__encoder *e, pvs_error *err) {
+	uint32_t s = e->cells < PVS__ORDER_SAMPLE ? e->cells : PVS__ORDER_SAMPLE, sw = (s + 63) / 64, i, k, cur = 0;
+	uint32_t *next = (uint32_t *)pvs__alloc_array(&e->a, (size_t)e->n + 1, sizeof(uint32_t));
+	pvs_word *col = (pvs_word *)pvs__alloc_array(&e->a, (size_t)e->n * sw, sizeof(pvs_word));
+	pvs_result r = PVS_OK;
+	if (!next || !col) {
+		r = PVS__OOM(err, "object order over %u cells", s);
+		goto done;
+	}
+	memset(col, 0, (size_t)e->n * sw * sizeof(pvs_word));
+	for (i = 0; i < s; ++i) {
+		const pvs_word *x = pvs__encoder_row(e, (uint32_t)((uint64_t)i * e->cells / s), 0);
+		size_t w;
+		for (w = 0; w < e->words; ++w) {
+			pvs_word b;
+			for (b = x[w]; b; b &= b - 1u) {
+				uint32_t o = (uint32_t)(w * 64) + pvs__ctz64(b);
+				if (o < e->n) col[(size_t)o * sw + (i >> 6)] |= (pvs_word)1 << (i & 63);
+			}
+		}
+	}
+	for (i = 0; i <= e->n; ++i) next[i] = i + 1; /* unused objects by id, from next[n] */
+	next[e->n] = 1;
+	e->order[0] = 0;
+	for (k = 1; k < e->n; ++k) {
+		uint32_t at = e->n, best_prev = e->n, best = e->n, seen, d, bd = 0xffffffffu, j;
+		for (seen = 0; next[at] < e->n && seen < PVS__ORDER_WINDOW; at = next[at], ++seen) {
+			const pvs_word *p = col + (size_t)next[at] * sw, *q = col + (size_t)cur * sw;
+			for (j = 0, d = 0; j < sw; ++j) d += pvs__popcount64(p[j] ^ q[j]);
+			if (d < bd) {
+				bd = d;
+				best = next[at];
+				best_prev = at;
+			}
+		}
+		next[best_prev] = next[best];
+		e->order[k] = cur = best;
+	}
+	for (k = 0; k < e->n; ++k) e->pos[e->order[k]] = k;
+done:
+	pvs__free_array(&e->a, next, (size_t)e->n + 1, sizeof(uint32_t));
+	pvs__free_array(&e->a, col, (size_t)e->n * sw, sizeof(pvs_word));
+	return r;
+}
+
+/* Probabilities: counts over every record, Laplace-smoothed, 12 bits. */
+PVS__STATIC void pvs__encoder_model(pvs__encoder *e) {
+	uint32_t counts[2 * PVS__CTX_COUNT], i, k;
+	pvs__ac a;
+	memset(&a, 0, sizeof(a));
+	memset(counts, 0, sizeof(counts));
+	a.counts = counts;
+	for (i = 0; i < e->cells; ++i)
+		pvs__rec_code(&a, pvs__encoder_prow(e, i, 0),
+					  e->base[i] == PVS_NO_CELL ? NULL : pvs__encoder_prow(e, e->base[i], 1), e->n);
+	for (k = 0; k < PVS__CTX_COUNT; ++k) {
+		uint64_t n1 = counts[2 * k + 1], n = counts[2 * k] + n1, p = ((2 * n1 + 1) << 12) / (2 * n + 2);
+		e->prob[k] = (uint16_t)(p < 1 ? 1 : p > 4095 ? 4095 : p);
+	}
+}
+
 /* Writes RECS body (out NULL: measures). */
 PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
 	uint32_t blocks = (e->cells + PVS__BLOCK - 1) / PVS__BLOCK, i;
 	size_t pos = 4 * ((size_t)blocks + 1);
 	for (i = 0; i < e->cells; ++i) {
-		pvs__coded c, cr;
-		uint32_t head, zz = 0, m = pvs__encoder_sets(e, i, e->base[i]);
-		int delta = e->base[i] != PVS_NO_CELL;
-		size_t inner;
+		uint32_t j = e->base[i];
+		uint8_t head[10];
+		size_t h = pvs__put_varint(head, e->depth[i]), inner;
+		pvs__ac a;
 		if (out && i % PVS__BLOCK == 0) pvs__put32(out + 4 * (size_t)(i / PVS__BLOCK), (uint32_t)pos);
-		c = pvs__set_measure(e->tmp, e->n);
-		head = c.coding | (e->depth[i] << 2);
-		inner = pvs__varint_size(head) + c.bytes;
-		if (delta) {
-			zz = pvs__zigzag((int64_t)i - (int64_t)e->base[i]);
-			cr = pvs__set_measure(e->ranks, m);
-			inner += pvs__varint_size(zz) + 1u + pvs__varint_size(m) + cr.bytes;
-		}
+		if (j != PVS_NO_CELL) h += pvs__put_varint(head + h, pvs__zigzag((int64_t)i - (int64_t)j));
+		memset(&a, 0, sizeof(a));
+		pvs__ac_init(&a, NULL, NULL);
+		a.out = e->buf;
+		a.prob = e->prob;
+		pvs__rec_code(&a, pvs__encoder_prow(e, i, 0), j == PVS_NO_CELL ? NULL : pvs__encoder_prow(e, j, 1), e->n);
+		e->buf[a.n++] = (uint8_t)(a.x2 >> 24); /* x2's top byte, zero-padded, lies in [x1, x2] */
+		inner = h + a.n;
 		if (out) {
-			uint8_t *o = out + pos;
-			o += pvs__put_varint(o, (uint32_t)inner);
-			o += pvs__put_varint(o, head);
-			if (delta) {
-				o += pvs__put_varint(o, zz);
-				*o++ = (uint8_t)cr.coding;
-				o += pvs__put_varint(o, m);
-				pvs__set_write(e->ranks, m, &cr, o);
-				o += cr.bytes;
-			}
-			pvs__set_write(e->tmp, e->n, &c, o);
+			uint8_t *o = out + pos + pvs__put_varint(out + pos, (uint32_t)inner);
+			memcpy(o, head, h);
+			memcpy(o + h, e->buf, a.n);
 		}
 		pos += pvs__varint_size((uint32_t)inner) + inner;
 	}
 	if (out) pvs__put32(out + 4 * (size_t)blocks, (uint32_t)pos);
 	return pos;
+}
+
+/* MODL's size: head, probabilities, order. */
+PVS__STATIC size_t pvs__encoder_model_size(const pvs__encoder *e) {
+	return PVS__MODL_HEAD + ((uint64_t)e->n * e->order_bits + 7) / 8;
+}
+
+/* Bases and model for the identity order or the greedy one (order_bits 0 or not); returns RECS + MODL bytes. */
+PVS__STATIC pvs_result pvs__encoder_plan(pvs__encoder *e, uint32_t max_chain, int reorder, size_t *bytes,
+										 pvs_error *err) {
+	pvs_result r = PVS_OK;
+	e->order_bits = reorder ? pvs__bits_for(e->n - 1) : 0;
+	e->prow_of[0] = e->prow_of[1] = PVS_NO_CELL;
+	if (reorder) r = pvs__encoder_order(e, err);
+	if (r == PVS_OK) r = pvs__encoder_bases(e, max_chain, err);
+	if (r != PVS_OK) return r;
+	pvs__encoder_model(e);
+	*bytes = pvs__encoder_records(e, NULL) + pvs__encoder_model_size(e);
+	return PVS_OK;
 }
 
 /* pvs_file_encode's checks, each with its error; *max_chain: K; *vocc_size: VOCC section size (0: none). */
@@ -23313,8 +23201,8 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	pvs__encoder e;
 	pvs_result r;
 	uint32_t i, k, max_chain = 0, sections, keys = 0;
-	size_t at[8], sz[8], total, cell_bytes = 0, recs_size, vocc_size = 0, names_size;
-	uint32_t tags[8], k_vocc = 0, k_scne = 0, k_name = 0;
+	size_t at[9], sz[9], total, cell_bytes = 0, recs_size, vocc_size = 0, names_size, plain = 0, ordered = 0;
+	uint32_t tags[9], k_vocc = 0, k_scne = 0, k_name = 0;
 	uint8_t *o = (uint8_t *)out;
 	if (out_size) *out_size = 0;
 	r = pvs__encode_check(d, &max_chain, &vocc_size, err);
@@ -23335,23 +23223,32 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	r = pvs__encoder_lookup_tree(&e, err);
 	if (r != PVS_OK) goto done;
 
-	e.tmp = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
-	e.ranks = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
 	e.rows = (pvs_word *)pvs__alloc_array(&e.a, 2 * e.words, sizeof(pvs_word));
+	e.prow = (pvs_word *)pvs__alloc_array(&e.a, 2 * e.words, sizeof(pvs_word));
+	e.order = (uint32_t *)pvs__alloc_array(&e.a, 2 * (size_t)e.n, sizeof(uint32_t));
+	e.buf = (uint8_t *)pvs__alloc_array(&e.a, 16 * e.words + 16, 1); /* a bit costs at most 12 bits */
 	e.row_of[0] = e.row_of[1] = PVS_NO_CELL;
-	if (!e.tmp || !e.ranks || !e.rows) { r = PVS__OOM(err, "encoder bitset"); goto done; }
-	r = pvs__encoder_bases(&e, max_chain, err);
+	if (!e.rows || !e.prow || !e.order || !e.buf) {
+		r = PVS__OOM(err, "encoder bitsets");
+		goto done;
+	}
+	e.pos = e.order + e.n;
+	/* object order where it pays for itself */
+	r = pvs__encoder_plan(&e, max_chain, 1, &ordered, err);
+	if (r == PVS_OK) r = pvs__encoder_plan(&e, max_chain, 0, &plain, err);
+	if (r == PVS_OK && ordered < plain) r = pvs__encoder_plan(&e, max_chain, 1, &ordered, err);
 	if (r != PVS_OK) goto done;
 	for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;
 	recs_size = pvs__encoder_records(&e, NULL);
 
 	/* sections in manual's order, 8-aligned */
-	sections = d->shard_count ? 5u : 4u;
+	sections = d->shard_count ? 6u : 5u;
 	tags[0] = PVS__TAG_META; sz[0] = PVS__META_SIZE;
 	tags[1] = PVS__TAG_CELL; sz[1] = cell_bytes;
 	tags[2] = PVS__TAG_TREE; sz[2] = PVS__TREE_HEAD + e.tree_bytes;
 	tags[3] = PVS__TAG_RECS; sz[3] = recs_size;
-	tags[4] = PVS__TAG_SHRD; sz[4] = PVS__SHRD_SIZE;
+	tags[4] = PVS__TAG_MODL; sz[4] = pvs__encoder_model_size(&e);
+	tags[5] = PVS__TAG_SHRD; sz[5] = PVS__SHRD_SIZE;
 	if (d->vocc_counts) {
 		tags[k_vocc = sections] = PVS__VO_TAG;
 		sz[sections++] = vocc_size;
@@ -23398,8 +23295,19 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	pvs__put32(o + at[2], e.tree_depth);
 	memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
 	(void)pvs__encoder_records(&e, o + at[3]);
+	{
+		uint8_t *m = o + at[4];
+		pvs__put32(m, PVS__CTX_COUNT);
+		pvs__put32(m + 4, e.order_bits);
+		for (k = 0; k < PVS__CTX_COUNT; ++k) {
+			m[8 + 2 * k] = (uint8_t)e.prob[k];
+			m[9 + 2 * k] = (uint8_t)(e.prob[k] >> 8);
+		}
+		for (i = 0; e.order_bits && i < e.n; ++i)
+			pvs__put_bits(m + PVS__MODL_HEAD, (uint64_t)i * e.order_bits, e.order[i], e.order_bits);
+	}
 	if (d->shard_count) {
-		uint8_t *s = o + at[4];
+		uint8_t *s = o + at[5];
 		pvs__put32(s + 0, d->shard_index);
 		pvs__put32(s + 4, d->shard_count);
 		pvs__put32(s + 8, d->total_cell_count);
@@ -23426,14 +23334,13 @@ done:
 
 /* Located record (opened files only). */
 typedef struct pvs__rec {
-	const uint8_t *start, *body, *end; /* body: delta's removed ranks, else added ids */
-	uint32_t coding, depth, base; /* coding of added ids */
-	uint32_t removed_coding, base_size;
+	const uint8_t *start, *body, *end; /* body: coded bits */
+	uint32_t depth, base;
 } pvs__rec;
 
 PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
 	const uint8_t *recs = f->private_.records, *p;
-	uint32_t j, len, head, zz;
+	uint32_t j, len, zz;
 	p = recs + pvs__get32(recs + 4 * (size_t)(cell / PVS__BLOCK));
 	for (j = cell - cell % PVS__BLOCK; j < cell; ++j) {
 		p = pvs__skip_varint(p, &len);
@@ -23442,37 +23349,13 @@ PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
 	r->start = p;
 	p = pvs__skip_varint(p, &len);
 	r->end = p + len;
-	p = pvs__skip_varint(p, &head);
-	r->coding = head & 3u;
-	r->depth = head >> 2;
+	p = pvs__skip_varint(p, &r->depth);
 	r->base = PVS_NO_CELL;
 	if (r->depth) {
 		p = pvs__skip_varint(p, &zz);
 		r->base = (uint32_t)((int64_t)cell - pvs__unzigzag(zz));
-		r->removed_coding = *p++;
-		p = pvs__skip_varint(p, &r->base_size);
 	}
 	r->body = p;
-}
-
-/* Key: adds its ids (bits start empty); delta: removes its ranks (in base's PVS, in bits), then adds; changes to fn.
-   Opened files only. */
-PVS__STATIC void pvs__record_apply(const pvs_file *f, const pvs__rec *r, pvs_word *bits, pvs_change_fn fn, void *user) {
-	pvs__sink s;
-	size_t used = 0, bad;
-	const uint8_t *p = r->body;
-	memset(&s, 0, sizeof(s));
-	s.bits = bits;
-	s.words = (uint32_t)PVS_BITSET_WORDS(f->object_count);
-	s.fn = fn;
-	s.user = user;
-	if (r->depth) {
-		s.action = PVS__SET_REMOVE_RANKS;
-		(void)pvs__set_apply(p, r->end, r->removed_coding, r->base_size, &s, &used, &bad);
-		p += used;
-	}
-	s.action = PVS__SET_ADD;
-	(void)pvs__set_apply(p, r->end, r->coding, f->object_count, &s, &used, &bad);
 }
 
 PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const uint8_t *c, uint32_t size,
@@ -23611,21 +23494,19 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 		if (hi < lo || hi > size)
 			return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, off + 4 * (uint64_t)b, "block %u offsets do not ascend", b);
 		for (cell = b * PVS__BLOCK; cell < f->cell_count && cell < (b + 1) * PVS__BLOCK; ++cell) {
-			uint32_t len, head, zz, depth;
+			uint32_t len, zz, depth;
 			const uint8_t *rend;
-			size_t used = pvs__get_varint(p, end, &len), bad = 0;
-			pvs_result r;
+			size_t used = pvs__get_varint(p, end, &len);
 			if (!used || len > (size_t)(end - p) - used)
 				return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad length",
 								 cell);
 			p += used;
 			rend = p + len;
-			used = pvs__get_varint(p, rend, &head);
+			used = pvs__get_varint(p, rend, &depth);
 			if (!used)
 				return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad head",
 								 cell);
 			p += used;
-			depth = head >> 2;
 			if (depth > f->max_chain)
 				return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base), "cell %u: chain depth %u > %u",
 								 cell, depth, f->max_chain);
@@ -23639,34 +23520,8 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 				if (bc < 0 || bc >= (int64_t)f->cell_count || bc == (int64_t)cell)
 					return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base),
 									 "cell %u: base %lld is itself or no cell", cell, (long long)bc);
-				p += used;
 			} else {
 				++keys;
-			}
-			{
-				pvs__sink check;
-				size_t body = 0;
-				memset(&check, 0, sizeof(check));
-				if (depth) { /* removed ranks: coding byte, base PVS size, ranks below it */
-					uint32_t m;
-					if (p >= rend || *p > 3u)
-						return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base),
-										 "record of cell %u: bad coding", cell);
-					used = pvs__get_varint(p + 1, rend, &m);
-					if (!used || m > f->object_count)
-						return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base),
-										 "record of cell %u: bad base size", cell);
-					r = pvs__set_apply(p + 1 + used, rend, *p, m, &check, &body, &bad);
-					if (r != PVS_OK)
-						return pvs__fail(err, r, cell, (uint64_t)(p + 1 + used - base) + bad,
-										 "record of cell %u (removed)", cell);
-					p += 1 + used + body;
-				}
-				r = pvs__set_apply(p, rend, head & 3u, f->object_count, &check, &body, &bad);
-				if (r != PVS_OK) return pvs__fail(err, r, cell, (uint64_t)(p - base) + bad, "record of cell %u", cell);
-				if (p + body != rend)
-					return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p + body - base),
-									 "record of cell %u: bytes after its sets", cell);
 			}
 			p = rend;
 		}
@@ -23689,10 +23544,44 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 	return PVS_OK;
 }
 
+/* MODL: context count, order width (0 or the bits for object_count - 1), probabilities 1..4095, order's ids < object
+   count; unused bits zero. A repeated id only garbles PVSs, as any payload can. */
+PVS__STATIC pvs_result pvs__open_model(pvs_file *f, const uint8_t *base, const uint8_t *m, uint32_t size,
+									   pvs_error *err) {
+	uint64_t off = (uint64_t)(m - base), nbits;
+	uint32_t w, k;
+	if (size < PVS__MODL_HEAD || pvs__get32(m) != PVS__CTX_COUNT)
+		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "MODL: not %u contexts", PVS__CTX_COUNT);
+	w = pvs__get32(m + 4);
+	if (w && w != pvs__bits_for(f->object_count - 1))
+		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 4, "MODL: order width %u", w);
+	nbits = (uint64_t)f->object_count * w;
+	if (size != PVS__MODL_HEAD + (nbits + 7) / 8)
+		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "MODL: %u bytes, not %llu", size,
+						 (unsigned long long)(PVS__MODL_HEAD + (nbits + 7) / 8));
+	for (k = 0; k < PVS__CTX_COUNT; ++k) {
+		uint32_t p = m[8 + 2 * k] | (uint32_t)m[9 + 2 * k] << 8;
+		if (p < 1 || p > 4095)
+			return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 8 + 2 * k, "MODL: probability %u", p);
+		f->private_.prob[k] = (uint16_t)p;
+	}
+	f->private_.order = m + PVS__MODL_HEAD;
+	f->private_.order_bits = w;
+	f->private_.order_bytes = (uint32_t)((nbits + 7) / 8);
+	for (k = 0; w && k < f->object_count; ++k)
+		if (pvs__get_bits(f->private_.order, (uint64_t)k * w, w) >= f->object_count)
+			return pvs__fail(err, PVS_ERROR_OBJECT_OUT_OF_RANGE, (int64_t)k, off + PVS__MODL_HEAD + k * (uint64_t)w / 8,
+							 "MODL: order %u names object %u of %u", k,
+							 pvs__get_bits(f->private_.order, (uint64_t)k * w, w), f->object_count);
+	if ((nbits & 7u) && (m[size - 1] >> (nbits & 7u)))
+		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + size - 1, "MODL: bits after the order");
+	return PVS_OK;
+}
+
 /* Sections pvs_file_open knows, as table places them (NULL: absent). */
 typedef struct pvs__open_sections {
-	const uint8_t *meta, *cells, *tree, *recs, *shrd, *vocc, *scne, *name;
-	uint32_t meta_size, cells_size, tree_size, recs_size, shrd_size, vocc_size, scne_size, name_size;
+	const uint8_t *meta, *cells, *tree, *recs, *modl, *shrd, *vocc, *scne, *name;
+	uint32_t meta_size, cells_size, tree_size, recs_size, modl_size, shrd_size, vocc_size, scne_size, name_size;
 } pvs__open_sections;
 
 /* Checked in format table's order; *count_out: section count. */
@@ -23704,8 +23593,8 @@ PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t 
 		return pvs__fail(err, PVS_ERROR_TRUNCATED, -1, size, "the header needs 32 bytes, have %llu",
 						 (unsigned long long)size);
 	if (pvs__get32(p + 4) != PVS_FORMAT_VERSION)
-		return pvs__fail(err, PVS_ERROR_BAD_VERSION, -1, 4, "format version %u, this reader knows %d",
-						 pvs__get32(p + 4), PVS_FORMAT_VERSION);
+		return pvs__fail(err, PVS_ERROR_BAD_VERSION, -1, 4, "format version %u, this reader knows %d%s",
+						 pvs__get32(p + 4), PVS_FORMAT_VERSION, pvs__get32(p + 4) == 1 ? ": re-bake the file" : "");
 	if (pvs__get32(p + 8) != size) {
 		pvs_result code = pvs__get32(p + 8) > size ? PVS_ERROR_TRUNCATED : PVS_ERROR_BAD_HEADER;
 		return pvs__fail(err, code, -1, 8, "the header says %u bytes, the buffer has %llu", pvs__get32(p + 8),
@@ -23754,6 +23643,7 @@ PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t c
 		else if (tag == PVS__TAG_CELL) { sec->cells = p + off; sec->cells_size = sz; }
 		else if (tag == PVS__TAG_TREE) { sec->tree = p + off; sec->tree_size = sz; }
 		else if (tag == PVS__TAG_RECS) { sec->recs = p + off; sec->recs_size = sz; }
+		else if (tag == PVS__TAG_MODL) { sec->modl = p + off; sec->modl_size = sz; }
 		else if (tag == PVS__TAG_SHRD) { sec->shrd = p + off; sec->shrd_size = sz; }
 		else if (tag == PVS__VO_TAG) { sec->vocc = p + off; sec->vocc_size = sz; }
 		else if (tag == PVS__TAG_SCNE) { sec->scne = p + off; sec->scne_size = sz; }
@@ -23878,9 +23768,9 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 	if (r != PVS_OK) return r;
 	r = pvs__open_padding(p, size, count, err);
 	if (r != PVS_OK) return r;
-	if (!sec.meta || !sec.cells || !sec.tree || !sec.recs)
+	if (!sec.meta || !sec.cells || !sec.tree || !sec.recs || !sec.modl)
 		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, 0, "missing required section %s",
-						 !sec.meta ? "META" : !sec.cells ? "CELL" : !sec.tree ? "TREE" : "RECS");
+						 !sec.meta ? "META" : !sec.cells ? "CELL" : !sec.tree ? "TREE" : !sec.recs ? "RECS" : "MODL");
 	r = pvs__open_meta(f, p, sec.meta, sec.meta_size, err);
 	if (r != PVS_OK) return r;
 	if (sec.shrd) {
@@ -23893,6 +23783,7 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 	f->private_.records_size = sec.recs_size;
 	f->private_.block_count = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK;
 	r = pvs__open_records(f, p, sec.recs, sec.recs_size, err);
+	if (r == PVS_OK) r = pvs__open_model(f, p, sec.modl, sec.modl_size, err);
 	if (r == PVS_OK) r = pvs__open_cells(f, p, sec.cells, sec.cells_size, err);
 	if (r == PVS_OK) r = pvs__open_tree(f, p, sec.tree, sec.tree_size, err);
 	if (r == PVS_OK && sec.vocc) r = pvs__vo_open_section(f, p, sec.vocc, sec.vocc_size, err);
@@ -23920,9 +23811,7 @@ PVS_API void pvs_file_get_record_info(const pvs_file *f, uint32_t cell, pvs_reco
 	pvs__record_at(f, cell, &r);
 	info->base = r.base;
 	info->depth = r.depth;
-	info->coding = r.coding;
 	info->bytes = (uint32_t)(r.end - r.start);
-	info->base_size = r.depth ? r.base_size : 0;
 }
 
 // >>runtime
@@ -24077,10 +23966,10 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
 		if (!r.depth) break;
 		cell = r.base;
 	}
-	pvs__record_apply(f, &r, bits, NULL, NULL); /* key */
+	pvs__rec_decode(f, r.body, r.end, 1, bits, NULL); /* key */
 	while (--n) { /* then each delta over its base */
 		pvs__record_at(f, chain[n - 1], &r);
-		pvs__record_apply(f, &r, bits, NULL, NULL);
+		pvs__rec_decode(f, r.body, r.end, 0, bits, NULL);
 	}
 }
 
@@ -24130,7 +24019,14 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 		pvs__rec r;
 		pvs__record_at(f, cell, &r);
 		if (r.base == c->cell) {
-			pvs__record_apply(f, &r, c->bits, fn, user);
+			memcpy(c->scratch, c->bits, c->word_count * sizeof(pvs_word));
+			pvs__rec_decode(f, r.body, r.end, 0, c->scratch, NULL);
+			for (w = 0; fn && w < 2 * c->word_count; ++w) { /* removals, then additions */
+				size_t i = w % c->word_count;
+				pvs_word x = w < c->word_count ? c->bits[i] & ~c->scratch[i] : c->scratch[i] & ~c->bits[i];
+				for (; x; x &= x - 1u) fn(user, (uint32_t)(i * 64) + pvs__ctz64(x), w >= c->word_count);
+			}
+			memcpy(c->bits, c->scratch, c->word_count * sizeof(pvs_word));
 			c->cell = cell;
 			++c->delta_moves;
 			return PVS_OK;
@@ -24159,6 +24055,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
+   0.10.0 (2026-11-29) format 2: records arithmetic-coded in context, objects reordered (MODL); 1 refused.
    0.9.7 (2026-11-29) raster: AVX2 chosen at run time (GCC, Clang), PVS_RASTER_SSE2, pvs_raster_path; PORTAL -18%.
    0.9.6 (2026-11-29) PORTAL 15-30% faster: each source edge once.
    0.9.5 (2026-11-29) pvs_raster_mesh 5x faster: prefiltered pieces.

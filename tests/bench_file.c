@@ -108,6 +108,34 @@ int main(int argc, char **argv) {
         printf("BENCH decode_gbps %.2f GB/s\n", (double)passes * cells.count * words * 8 / t / 1e9);
         printf("BENCH decode_us_per_cell %.2f us\n", 1e6 * t / ((double)passes * cells.count));
     }
+    /* decode_cell_us (issue 30's yardstick): the same cells, the first 2,000 objects only */
+    if (objects >= 2000) {
+        uint32_t n2 = 2000, w2 = (uint32_t)PVS_BITSET_WORDS(2000), passes = 50;
+        pvs_word *sub = (pvs_word *)calloc((size_t)cells.count * w2, sizeof(pvs_word));
+        void *b2;
+        size_t s2;
+        pvs_file f2;
+        for (c = 0; c < cells.count; ++c) {
+            memcpy(sub + (size_t)c * w2, table + (size_t)c * words, w2 * sizeof(pvs_word));
+            sub[(size_t)c * w2 + w2 - 1] &= ((pvs_word)1 << (n2 & 63)) - 1u;
+        }
+        fd.object_count = n2;
+        fd.pvs = sub;
+        s2 = encode(&fd, &b2);
+        if (pvs_file_open(b2, s2, &f2, &pe) != PVS_OK) { fprintf(stderr, "%s\n", pe.message); return 1; }
+        t = cli_seconds();
+        for (i = 0; i < passes; ++i)
+            for (c = 0; c < cells.count; ++c) {
+                pvs_file_decode(&f2, c, bits, w2, NULL);
+                sink += (uint32_t)bits[0];
+            }
+        t = cli_seconds() - t;
+        printf("BENCH decode_cell_us %.2f us\n", 1e6 * t / ((double)passes * cells.count));
+        fd.object_count = objects;
+        fd.pvs = table;
+        free(b2);
+        free(sub);
+    }
     /* cursor: moves between touching cells (a walk), with a change callback */
     {
         uint32_t *path = (uint32_t *)malloc(200000 * sizeof(uint32_t)), steps = 200000, cur = 0;

@@ -1,23 +1,20 @@
 # make_corpus.py - maintenance only (never run by make): rebuilds the hand-made and broken files of
 # tests/corpus from tests/corpus/ok-golden.pvs after a format change. python3 tests/make_corpus.py
+# (format 2: the baked ok-* files were converted from format 1 by decoding with the old reader and
+# encoding with the new writer, tables unchanged; tests/golden/v1.pvs stays to test the re-bake message)
 import zlib, struct
 d='tests/corpus'
 def al(n): return (n+7)&~7
 def build(secs):
     pos=al(32+16*len(secs)); offs=[]
     for t,dd in secs: offs.append(pos); pos=al(pos+len(dd))
-    f=bytearray(pos); f[0:4]=b'PVS\x1a'; struct.pack_into('<IIII',f,4,1,pos,len(secs),0)
+    f=bytearray(pos); f[0:4]=b'PVS\x1a'; struct.pack_into('<IIII',f,4,2,pos,len(secs),0)
     for i,(t,dd) in enumerate(secs):
         f[offs[i]:offs[i]+len(dd)]=dd
         struct.pack_into('<4sIII',f,32+16*i,t,offs[i],len(dd),zlib.crc32(dd)&0xffffffff)
     struct.pack_into('<I',f,20,zlib.crc32(bytes(f[0:20])+bytes(f[32:32+16*len(secs)]))&0xffffffff)
     return bytes(f)
-meta=struct.pack('<IIIfIIII',1,0xfffffffe,1,0.0,1,8,1,0)
-cell=struct.pack('<III',2,2,2)+bytes([1,1,1,1,1,1,0,0])+struct.pack('<6f',0,1,0,1,0,1)+bytes([0x38])
-tree=struct.pack('<II',0,0)+struct.pack('<II',0,1)+bytes([0])
-rec=bytes([8,1,1,0,0x80,0x80,0x80,0x80,0x08])
-recs=struct.pack('<II',8,8+len(rec))+rec
-open(d+'/ok-huge-run.pvs','wb').write(build([(b'META',meta),(b'CELL',cell),(b'TREE',tree),(b'RECS',recs)]))
+modl=struct.pack('<II',76,0)+struct.pack('<76H',*([2048]*76)) # identity order, even odds
 good=open(d+'/ok-golden.pvs','rb').read()
 def fix(b):
     b=bytearray(b); n=struct.unpack_from('<I',b,12)[0]
@@ -38,18 +35,17 @@ out['bad-magic']=b'PVX'+good[3:]
 b=bytearray(good); b[100]^=1; out['bad-checksum']=bytes(b)
 m,_=sec(good,b'META'); b=bytearray(good); struct.pack_into('<I',b,m+20,1); out['bad-chain-bound']=fix(b)
 t,_=sec(good,b'TREE'); b=bytearray(good); struct.pack_into('<I',b,t+8,0x7fc00000); out['bad-tree']=fix(b)
-r,_=sec(good,b'RECS'); b=bytearray(good); first=struct.unpack_from('<I',b,r)[0]; b[r+first+1]=(b[r+first+1]&3)|(9<<2); out['bad-depth']=fix(b)
+r,_=sec(good,b'RECS'); b=bytearray(good); first=struct.unpack_from('<I',b,r)[0]; b[r+first+1]=9; out['bad-depth']=fix(b)
 c,_=sec(good,b'CELL'); b=bytearray(good); struct.pack_into('<I',b,c+20,0x7fc00000); out['bad-cell-nan']=fix(b)
-b=bytearray(good); struct.pack_into('<I',b,m+4,3); out['bad-object-range']=fix(b)
-b=bytearray(good); struct.pack_into('<I',b,4,2); out['bad-version']=bytes(b)
+b=bytearray(good); struct.pack_into('<I',b,4,3); out['bad-version']=bytes(b)
 for k,v in out.items(): open(d+'/'+k+'.pvs','wb').write(v)
 
-# a billion cells whose indices are all 0 bits wide: must be rejected in time linear in its 184 bytes
+# a billion cells whose indices are all 0 bits wide: must be rejected in time linear in its 360 bytes
 meta=struct.pack('<IIIfIIII',0x3fffffff,10,1,0.0,1,8,1,0)
 cell=struct.pack('<III',1,1,1)+bytes([0,0,0,0,0,0,0,0])+struct.pack('<3f',0,0,0)
 tree=struct.pack('<II',0,0)+struct.pack('<II',0,1)+bytes([0])
 recs=struct.pack('<II',8,11)+bytes([2,0,0])
-open(d+'/bad-huge-cell-count.pvs','wb').write(build([(b'META',meta),(b'CELL',cell),(b'TREE',tree),(b'RECS',recs)]))
+open(d+'/bad-huge-cell-count.pvs','wb').write(build([(b'META',meta),(b'CELL',cell),(b'TREE',tree),(b'RECS',recs),(b'MODL',modl)]))
 # an empty unknown section at the offset of TREE, listed after it: opens (sections of size 0 are fine)
 g=bytearray(good); n=struct.unpack_from('<I',g,12)[0]
 secs=[]
@@ -86,3 +82,14 @@ fb=[0]
 for b in range((cells+15)//16): fb.append(fb[-1]+sum(counts[16*b:16*b+16]))
 fb[1]+=1
 open(d+'/bad-vocc-block.pvs','wb').write(with_vocc(vocc_sec(cells,counts,scales,occ,first=fb)))
+# an object order naming object 120 of 100 (META says 100 objects, MODL orders them in 7 bits)
+secs=[]
+for i in range(struct.unpack_from('<I',good,12)[0]):
+    t,o,s_,c=struct.unpack_from('<4sIII',good,32+16*i); secs.append([t,bytearray(good[o:o+s_])])
+for sc in secs:
+    if sc[0]==b'META': struct.pack_into('<I',sc[1],4,100)
+    if sc[0]==b'MODL':
+        ids=list(range(99))+[120]; v=0
+        for k,x in enumerate(ids): v|=x<<(7*k)
+        sc[1]=bytearray(sc[1][:8])+sc[1][8:160]; struct.pack_into('<I',sc[1],4,7); sc[1]+=v.to_bytes((700+7)//8,'little')
+open(d+'/bad-object-range.pvs','wb').write(build([(t,bytes(x)) for t,x in secs]))

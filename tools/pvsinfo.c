@@ -101,21 +101,9 @@ static int verify_file(const char *path, const pvs_file *f, size_t size, pvs_wor
     pvs_error pe;
     for (c = 0; c < f->cell_count; ++c) {
         pvs_box b = pvs_file_cell_box(f, c);
-        pvs_record_info info;
         if (pvs_file_decode(f, c, bits, words, &pe) != PVS_OK) {
             fprintf(stderr, "pvsinfo: %s: cell %u: %s\n", path, c, pe.message);
             return 1;
-        }
-        pvs_file_get_record_info(f, c, &info);
-        if (info.base != PVS_NO_CELL) { /* the removal ranks must count in the base's PVS as it is */
-            uint32_t m;
-            pvs_file_decode(f, info.base, bits, words, NULL);
-            m = pvs_bitset_count(bits, f->object_count);
-            if (m != info.base_size) {
-                fprintf(stderr, "pvsinfo: %s: cell %u: its delta counts ranks in %u objects, its base %u has %u\n", path, c, info.base_size,
-                        info.base, m);
-                return 1;
-            }
         }
         for (j = 0; j < 9; ++j) {
             float q[3];
@@ -147,16 +135,14 @@ static int print_vocc(const char *path, const pvs_file *f) {
     return 0;
 }
 
-/* The summary's lines on the records: codings, delta chains, shards, virtual occluders. */
+/* The summary's lines on the records: delta chains, object order, shards, virtual occluders. */
 static void print_records(const pvs_file *f) {
-    static const char *names[PVS_CODING_COUNT] = {"gap varints", "run lengths", "Rice codes", "raw bitsets"};
-    uint32_t coding_count[PVS_CODING_COUNT] = {0}, c, k, deepest = 0;
+    uint32_t c, deepest = 0;
     uint64_t record_bytes = 0;
     double depth_sum = 0.0;
     for (c = 0; c < f->cell_count; ++c) {
         pvs_record_info info;
         pvs_file_get_record_info(f, c, &info);
-        ++coding_count[info.coding];
         record_bytes += info.bytes;
         depth_sum += info.depth;
         if (info.depth > deepest) deepest = info.depth;
@@ -164,8 +150,7 @@ static void print_records(const pvs_file *f) {
     printf("records     %llu bytes (%.1f per cell): %u key cells, %u deltas; chain mean %.2f, max %u (bound %u)\n",
            (unsigned long long)record_bytes, (double)record_bytes / f->cell_count, f->key_count, f->cell_count - f->key_count,
            depth_sum / f->cell_count, deepest, f->max_chain);
-    printf("codings    ");
-    for (k = 0; k < PVS_CODING_COUNT; ++k) printf(" %s %u%s", names[k], coding_count[k], k + 1 < PVS_CODING_COUNT ? "," : "\n");
+    printf("coding      context-coded bits, objects %s\n", f->private_.order_bits ? "reordered" : "in id order");
     if (f->shard_count)
         printf("part        shard %u of %u (%u cells in the whole bake): combine with pvsbake merge\n", f->shard_index + 1, f->shard_count,
                f->total_cell_count);
