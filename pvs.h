@@ -22354,7 +22354,7 @@ PVS__STATIC uint32_t pvs__order_at(const pvs_file *f, uint32_t k) {
    some set of ids < object_count. learn: NULL, or adaptive probabilities instead of file's. */
 PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint8_t *end, uint32_t key,
 								 pvs_word *bits, uint16_t *learn) {
-	uint32_t n = f->object_count, words = (n + 63) >> 6, w, k, ch = 0, pc = 0, pb = 0, pc2 = 0, o, on;
+	uint32_t n = f->object_count, words = (uint32_t)PVS_BITSET_WORDS(n), w, k, ch = 0, pc = 0, pb = 0, pc2 = 0, o, on;
 	uint32_t x1 = 0, x2 = 0xffffffffu, x = 0, y, mid, ctx, q;
 	const uint16_t *prob = learn ? learn : f->private_.prob;
 	for (k = 0; k < 4; ++k) x = (x << 8) | (p < end ? *p++ : 0u);
@@ -22649,7 +22649,7 @@ PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
 	pvs__free_array(a, e->rows, 2 * e->words, sizeof(pvs_word));
 	pvs__free_array(a, e->order, 2 * (size_t)e->n, sizeof(uint32_t));
 	pvs__free_array(a, e->prow, 2 * e->words, sizeof(pvs_word));
-	pvs__free_array(a, e->buf, 16 * e->words + 16, 1);
+	pvs__free_array(a, e->buf, 292 * e->words + 16, 1);
 }
 
 /* Cell i's PVS: desc's table, or pvs_row's into slot 0 (record's cell) or 1 (its base), kept while it holds i. */
@@ -22818,7 +22818,7 @@ PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint
 
 /* Codes cell row x against base row y (NULL: key), n positions, both in file's order (pvs__rec_decode's mirror). */
 PVS__STATIC void pvs__rec_code(pvs__ac *a, const pvs_word *x, const pvs_word *y, uint32_t n) {
-	uint32_t words = (n + 63) >> 6, w, j, k, key = !y, ch = 0, pc = 0, pb = 0, pc2 = 0;
+	uint32_t words = (uint32_t)PVS_BITSET_WORDS(n), w, j, k, key = !y, ch = 0, pc = 0, pb = 0, pc2 = 0;
 	for (w = 0; w < words; ++w) {
 		pvs_word xw = x[w], bw = y ? y[w] : 0, nw = y && w + 1 < words ? y[w + 1] : 0;
 		uint32_t lim = n - (w << 6) < 64 ? n - (w << 6) : 64, bf = 0;
@@ -22845,14 +22845,17 @@ PVS__STATIC void pvs__rec_code(pvs__ac *a, const pvs_word *x, const pvs_word *y,
 	}
 }
 
-/* Object order: a greedy nearest-neighbour chain over objects' visibility on up to PVS__ORDER_SAMPLE cells, so
-   objects seen together sit side by side (deltas then change few words); each step searches the first
-   PVS__ORDER_WINDOW unused objects by id (bounded: objects * window * sample / 64 steps). */
+/* Object order: greedy nearest-neighbour chain over objects' visibility on <= PVS__ORDER_SAMPLE cells, so objects
+   seen together sit side by side (deltas change few words); each step searches first PVS__ORDER_WINDOW unused. */
 PVS__STATIC pvs_result pvs__encoder_order(pvs__encoder *e, pvs_error *err) {
-	uint32_t s = e->cells < PVS__ORDER_SAMPLE ? e->cells : PVS__ORDER_SAMPLE, sw = (s + 63) / 64, i, k, cur = 0;
+	uint32_t s = (uint32_t)(((uint64_t)1 << 30) / e->n), sw, i, k, cur = 0; /* samples: <= 128 MB */
 	uint32_t *next = (uint32_t *)pvs__alloc_array(&e->a, (size_t)e->n + 1, sizeof(uint32_t));
-	pvs_word *col = (pvs_word *)pvs__alloc_array(&e->a, (size_t)e->n * sw, sizeof(pvs_word));
+	pvs_word *col;
 	pvs_result r = PVS_OK;
+	s = s < 64 ? 64 : s > PVS__ORDER_SAMPLE ? PVS__ORDER_SAMPLE : s;
+	s = s < e->cells ? s : e->cells;
+	sw = (s + 63) / 64;
+	col = (pvs_word *)pvs__alloc_array(&e->a, (size_t)e->n * sw, sizeof(pvs_word));
 	if (!next || !col) {
 		r = PVS__OOM(err, "object order over %u cells", s);
 		goto done;
@@ -23226,7 +23229,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	e.rows = (pvs_word *)pvs__alloc_array(&e.a, 2 * e.words, sizeof(pvs_word));
 	e.prow = (pvs_word *)pvs__alloc_array(&e.a, 2 * e.words, sizeof(pvs_word));
 	e.order = (uint32_t *)pvs__alloc_array(&e.a, 2 * (size_t)e.n, sizeof(uint32_t));
-	e.buf = (uint8_t *)pvs__alloc_array(&e.a, 16 * e.words + 16, 1); /* a bit costs at most 12 bits */
+	e.buf = (uint8_t *)pvs__alloc_array(&e.a, 292 * e.words + 16, 1); /* <= 73 symbols a word, 4 bytes each */
 	e.row_of[0] = e.row_of[1] = PVS_NO_CELL;
 	if (!e.rows || !e.prow || !e.order || !e.buf) {
 		r = PVS__OOM(err, "encoder bitsets");
