@@ -22289,51 +22289,8 @@ PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z 
    (none for a key), its neighbours there, bits just coded. A 64-object word equal to base's costs one flag, so a delta
    decodes in time of its changed words. ---- */
 
-/* Encodes when in == NULL (bytes to out, only counted if out is NULL; or counts contexts), else decodes from
-   in[0..end), zeros past end. */
-typedef struct pvs__ac {
-	uint32_t x1, x2, x;
-	uint8_t *out;
-	const uint8_t *in, *end;
-	size_t n; /* bytes out */
-	uint32_t *counts; /* encoder: 2 per context, instead of coding */
-	const uint16_t *prob; /* of a 1, 12 bits, 1..4095 */
-	uint16_t *learn; /* instead of prob: adapted after each bit (compact bake's PVSs) */
-} pvs__ac;
-
-PVS__STATIC void pvs__ac_init(pvs__ac *a, const uint8_t *in, const uint8_t *end) {
-	int k;
-	a->x1 = 0;
-	a->x2 = 0xffffffffu;
-	a->x = 0;
-	a->in = in;
-	a->end = end;
-	for (k = 0; in && k < 4; ++k) a->x = (a->x << 8) | (a->in < a->end ? *a->in++ : 0u);
-}
-/* Codes bit y (encoder) or returns bit decoded, in context ctx. */
-PVS__STATIC uint32_t pvs__ac_bit(pvs__ac *a, uint32_t ctx, uint32_t y) {
-	uint32_t mid;
-	if (a->counts) {
-		++a->counts[2 * ctx + y];
-		return y;
-	}
-	mid = a->x1 + (uint32_t)(((uint64_t)(a->x2 - a->x1) * (a->learn ? a->learn : a->prob)[ctx]) >> 12);
-	if (a->in) y = a->x <= mid;
-	if (y) a->x2 = mid;
-	else a->x1 = mid + 1u;
-	if (a->learn) { /* toward the bit coded, 1/16 of the way */
-		uint32_t p = a->learn[ctx];
-		a->learn[ctx] = (uint16_t)(y ? p + ((4096u - p) >> 4) : p - (p >> 4));
-	}
-	while (!((a->x1 ^ a->x2) >> 24)) { /* top bytes agree: settled */
-		if (a->in) a->x = (a->x << 8) | (a->in < a->end ? *a->in++ : 0u);
-		else if (a->out) a->out[a->n++] = (uint8_t)(a->x2 >> 24);
-		else ++a->n;
-		a->x1 <<= 8;
-		a->x2 = (a->x2 << 8) | 255u;
-	}
-	return y;
-}
+/* Adaptive probability (compact bake's PVSs): 1/16 of the way toward the bit coded. */
+#define PVS__ADAPT(p, y) ((uint16_t)((y) ? (p) + ((4096u - (p)) >> 4) : (p) - ((p) >> 4u) + 0u))
 
 #define PVS__CTX_FLAG 64u /* after the 64 bit contexts, 4 word flags (key, previous word changed), 4 byte flags */
 #define PVS__CTX_BYTE 68u
@@ -22355,7 +22312,7 @@ PVS__STATIC uint32_t pvs__order_at(const pvs_file *f, uint32_t k) {
 PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint8_t *end, uint32_t key,
 								 pvs_word *bits, uint16_t *learn) {
 	uint32_t n = f->object_count, words = (uint32_t)PVS_BITSET_WORDS(n), w, k, ch = 0, pc = 0, pb = 0, pc2 = 0, o, on;
-	uint32_t x1 = 0, x2 = 0xffffffffu, x = 0, y, mid, ctx, q;
+	uint32_t x1 = 0, x2 = 0xffffffffu, x = 0, y, mid, ctx;
 	const uint16_t *prob = learn ? learn : f->private_.prob;
 	for (k = 0; k < 4; ++k) x = (x << 8) | (p < end ? *p++ : 0u);
 /* pvs__ac_bit's decoder in registers: y = bit in context ctx */
@@ -22365,7 +22322,7 @@ PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint
 		y = x <= mid;                                                                                                  \
 		if (y) x2 = mid;                                                                                               \
 		else x1 = mid + 1u;                                                                                            \
-		if (learn) q = learn[ctx], learn[ctx] = (uint16_t)(y ? q + ((4096u - q) >> 4) : q - (q >> 4));               \
+		if (learn) learn[ctx] = PVS__ADAPT(learn[ctx], y);                                                             \
 		while (!((x1 ^ x2) >> 24)) {                                                                                   \
 			x = (x << 8) | (p < end ? *p++ : 0u);                                                                      \
 			x1 <<= 8;                                                                                                  \
@@ -22416,6 +22373,40 @@ PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint
 }
 
 #ifndef PVS_RUNTIME_ONLY /* bake's compact PVSs, encoder */
+/* Encoder: bytes to out (only counted if out is NULL), or counts contexts. */
+typedef struct pvs__ac {
+	uint32_t x1, x2;
+	uint8_t *out;
+	size_t n; /* bytes out */
+	uint32_t *counts; /* 2 per context, instead of coding */
+	const uint16_t *prob; /* of a 1, 12 bits, 1..4095 */
+	uint16_t *learn; /* instead of prob: adapted after each bit */
+} pvs__ac;
+
+PVS__STATIC void pvs__ac_start(pvs__ac *a) {
+	memset(a, 0, sizeof(*a));
+	a->x2 = 0xffffffffu;
+}
+/* Codes bit y in context ctx (pvs__rec_decode's PVS__AC_GET mirrored). */
+PVS__STATIC uint32_t pvs__ac_bit(pvs__ac *a, uint32_t ctx, uint32_t y) {
+	uint32_t mid;
+	if (a->counts) {
+		++a->counts[2 * ctx + y];
+		return y;
+	}
+	mid = a->x1 + (uint32_t)(((uint64_t)(a->x2 - a->x1) * (a->learn ? a->learn : a->prob)[ctx]) >> 12);
+	if (y) a->x2 = mid;
+	else a->x1 = mid + 1u;
+	if (a->learn) a->learn[ctx] = PVS__ADAPT(a->learn[ctx], y);
+	while (!((a->x1 ^ a->x2) >> 24)) { /* top bytes agree: settled */
+		if (a->out) a->out[a->n] = (uint8_t)(a->x2 >> 24);
+		++a->n;
+		a->x1 <<= 8;
+		a->x2 = (a->x2 << 8) | 255u;
+	}
+	return y;
+}
+
 /* ---- encoder ---- */
 
 /* Compact bake's task PVS: coding byte, then pvs__set_write's body (re-running task replaces it). */
@@ -22428,8 +22419,7 @@ PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word
 	int pass, k;
 	for (pass = 0; pass < 2; ++pass) { /* measure, write */
 		pvs__ac a;
-		memset(&a, 0, sizeof(a));
-		pvs__ac_init(&a, NULL, NULL);
+		pvs__ac_start(&a);
 		for (k = 0; k < (int)PVS__CTX_COUNT; ++k) learn[k] = 2048;
 		a.learn = learn;
 		a.out = p;
@@ -22923,8 +22913,7 @@ PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
 		pvs__ac a;
 		if (out && i % PVS__BLOCK == 0) pvs__put32(out + 4 * (size_t)(i / PVS__BLOCK), (uint32_t)pos);
 		if (j != PVS_NO_CELL) h += pvs__put_varint(head + h, pvs__zigzag((int64_t)i - (int64_t)j));
-		memset(&a, 0, sizeof(a));
-		pvs__ac_init(&a, NULL, NULL);
+		pvs__ac_start(&a);
 		a.out = e->buf;
 		a.prob = e->prob;
 		pvs__rec_code(&a, pvs__encoder_prow(e, i, 0), j == PVS_NO_CELL ? NULL : pvs__encoder_prow(e, j, 1), e->n);
@@ -22946,13 +22935,13 @@ PVS__STATIC size_t pvs__encoder_model_size(const pvs__encoder *e) {
 	return PVS__MODL_HEAD + ((uint64_t)e->n * e->order_bits + 7) / 8;
 }
 
-/* Bases and model for the identity order or the greedy one (order_bits 0 or not); returns RECS + MODL bytes. */
+/* Bases and model for identity order (reorder 0), greedy one (1: made, 2: as made before); *bytes: RECS + MODL. */
 PVS__STATIC pvs_result pvs__encoder_plan(pvs__encoder *e, uint32_t max_chain, int reorder, size_t *bytes,
 										 pvs_error *err) {
 	pvs_result r = PVS_OK;
 	e->order_bits = reorder ? pvs__bits_for(e->n - 1) : 0;
 	e->prow_of[0] = e->prow_of[1] = PVS_NO_CELL;
-	if (reorder) r = pvs__encoder_order(e, err);
+	if (reorder == 1) r = pvs__encoder_order(e, err);
 	if (r == PVS_OK) r = pvs__encoder_bases(e, max_chain, err);
 	if (r != PVS_OK) return r;
 	pvs__encoder_model(e);
@@ -23239,7 +23228,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	/* object order where it pays for itself */
 	r = pvs__encoder_plan(&e, max_chain, 1, &ordered, err);
 	if (r == PVS_OK) r = pvs__encoder_plan(&e, max_chain, 0, &plain, err);
-	if (r == PVS_OK && ordered < plain) r = pvs__encoder_plan(&e, max_chain, 1, &ordered, err);
+	if (r == PVS_OK && ordered < plain) r = pvs__encoder_plan(&e, max_chain, 2, &ordered, err);
 	if (r != PVS_OK) goto done;
 	for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;
 	recs_size = pvs__encoder_records(&e, NULL);
