@@ -22286,8 +22286,8 @@ PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z 
 
 /* ---- record coding: each bit of a cell's PVS, in file's object order, by binary arithmetic coding (Witten, Neal and
    Cleary 1987; carryless 32-bit bounds as in Mahoney's PAQ) with file's fixed probability per context: bit in base cell
-   (none for a key), its neighbours there, bits just coded. A 64-object word equal to base's costs one flag, so a delta
-   decodes in time of its changed words. ---- */
+   (none for a key), its neighbours there, bits just coded. A 64-object word, and a byte of a changed one, equal to
+   base's costs one flag, so a delta decodes in time of its changed bytes. ---- */
 
 /* Adaptive probability (compact bake's PVSs): 1/16 of the way toward the bit coded. */
 #define PVS__ADAPT(p, y) ((uint16_t)((y) ? (p) + ((4096u - (p)) >> 4) : (p) - ((p) >> 4u) + 0u))
