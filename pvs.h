@@ -22441,7 +22441,7 @@ PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_w
 	int k;
 	if (b->pvs) return b->pvs + (size_t)task * b->words;
 	memset(buffer, 0, b->words * sizeof(pvs_word));
-	memset(&f, 0, sizeof(f));
+	memset(&f, 0, sizeof(f)); /* with learn, pvs__rec_decode reads only object_count (identity order) */
 	f.object_count = b->object_count;
 	for (k = 0; k < (int)PVS__CTX_COUNT; ++k) learn[k] = 2048;
 	if (b->rec[task]) pvs__rec_decode(&f, b->rec[task], b->rec[task] + b->rec_size[task], 1, buffer, learn);
@@ -22657,10 +22657,11 @@ PVS__STATIC const pvs_word *pvs__encoder_prow(pvs__encoder *e, uint32_t i, int s
 	pvs_word *p = e->prow + slot * e->words;
 	if (e->prow_of[slot] != i) {
 		const pvs_word *x = pvs__encoder_row(e, i, slot);
+		pvs_word b;
 		size_t w;
 		memset(p, 0, e->words * sizeof(pvs_word));
 		for (w = 0; w < e->words; ++w)
-			for (pvs_word b = x[w]; b; b &= b - 1u) {
+			for (b = x[w]; b; b &= b - 1u) {
 				uint32_t o = (uint32_t)(w * 64) + pvs__ctz64(b), k;
 				if (o >= e->n) break;
 				k = e->order_bits ? e->pos[o] : o;
@@ -22749,10 +22750,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 choose:
 	for (k = 0; k < 2 * e->edge_count; ++k) e->adj[2 * k + 1] = 0;
 	best = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)e->cells, sizeof(uint32_t)); /* key sizes, best bases, depths */
-	if (!best) {
-		pvs__free_array(a, best, 3 * (size_t)e->cells, sizeof(uint32_t));
-		return PVS__OOM(err, "encoder heap");
-	}
+	if (!best) return PVS__OOM(err, "encoder bases");
 	for (i = 0; i < e->cells; ++i) best[i] = pvs__encoder_cost(e, i, PVS_NO_CELL);
 	for (lambda = 0; lambda <= 8; lambda = lambda ? 2 * lambda : 2) {
 		uint64_t size = pvs__encoder_prim(e, max_chain, lambda, best);
