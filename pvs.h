@@ -1491,6 +1491,9 @@ PVS__STATIC void *pvs__alloc_array(const pvs_allocator *a, size_t n, size_t elem
 PVS__STATIC void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size_t elem) {
 	pvs__free(a, p, n * elem, 16);
 }
+/* The same, sized by type: n elements of T; freeing n elements of *p's type. */
+#define PVS__ALLOC_N(a, T, n) ((T *)pvs__alloc_array(a, n, sizeof(T)))
+#define PVS__FREE_N(a, p, n) pvs__free_array(a, p, n, sizeof(*(p)))
 
 /* ---- math (private names: none leak into engine) ---- */
 
@@ -2154,16 +2157,16 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
 	pvs_kdtree_destroy(s->triangle_tree);
 	pvs_kdtree_destroy(s->see_through_tree);
 	pvs_kdtree_destroy(s->object_tree);
-	pvs__free_array(&a, s->triangle_corners, (size_t)s->triangle_count * 9, sizeof(float));
-	pvs__free_array(&a, s->positions, (size_t)s->vertex_count * 3, sizeof(float));
-	pvs__free_array(&a, s->indices, (size_t)s->triangle_count * 3, sizeof(uint32_t));
-	pvs__free_array(&a, s->triangle_object, s->triangle_count, sizeof(uint32_t));
-	pvs__free_array(&a, s->object_boxes, s->object_count, sizeof(pvs_box));
-	pvs__free_array(&a, s->object_flags, s->object_count, sizeof(uint32_t));
-	pvs__free_array(&a, s->object_triangles, (size_t)s->object_count * 2, sizeof(uint32_t));
-	pvs__free_array(&a, s->occluders, s->occluder_count, sizeof(pvs_occluder_desc));
-	pvs__free_array(&a, s->occluder_boxes, s->occluder_count, sizeof(pvs_box));
-	pvs__free_array(&a, s->occluder_data, s->occluder_data_count, sizeof(float));
+	PVS__FREE_N(&a, s->triangle_corners, (size_t)s->triangle_count * 9);
+	PVS__FREE_N(&a, s->positions, (size_t)s->vertex_count * 3);
+	PVS__FREE_N(&a, s->indices, (size_t)s->triangle_count * 3);
+	PVS__FREE_N(&a, s->triangle_object, s->triangle_count);
+	PVS__FREE_N(&a, s->object_boxes, s->object_count);
+	PVS__FREE_N(&a, s->object_flags, s->object_count);
+	PVS__FREE_N(&a, s->object_triangles, (size_t)s->object_count * 2);
+	PVS__FREE_N(&a, s->occluders, s->occluder_count);
+	PVS__FREE_N(&a, s->occluder_boxes, s->occluder_count);
+	PVS__FREE_N(&a, s->occluder_data, s->occluder_data_count);
 	pvs__free(&a, s, sizeof(*s), 16);
 }
 
@@ -2297,7 +2300,7 @@ PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc
 	kd.allocator = s->allocator;
 	for (t = 0; t < desc->triangle_count; ++t) see += !pvs__tri_blocks(s, t);
 	if (see) {
-		pvs_box *sb = (pvs_box *)pvs__alloc_array(&s->allocator, desc->triangle_count, sizeof(pvs_box));
+		pvs_box *sb = PVS__ALLOC_N(&s->allocator, pvs_box, desc->triangle_count);
 		if (!sb) return PVS__OOM(err, "see-through triangle boxes");
 		for (t = 0; t < desc->triangle_count; ++t) {
 			int b = pvs__tri_blocks(s, t);
@@ -2308,7 +2311,7 @@ PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc
 		kd.count = desc->triangle_count;
 		kd.leaf_size = desc->leaf_size;
 		r = pvs_kdtree_create(&kd, &s->see_through_tree, err);
-		pvs__free_array(&s->allocator, sb, desc->triangle_count, sizeof(pvs_box));
+		PVS__FREE_N(&s->allocator, sb, desc->triangle_count);
 		if (r != PVS_OK) return r;
 	}
 	kd.boxes = tri_boxes;
@@ -2346,16 +2349,16 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
 	s->object_count = desc->object_count;
 	s->occluder_count = desc->occluder_count;
 	s->occluder_data_count = floats;
-	s->positions = (float *)pvs__alloc_array(&a, (size_t)desc->vertex_count * 3, sizeof(float));
-	s->indices = (uint32_t *)pvs__alloc_array(&a, (size_t)desc->triangle_count * 3, sizeof(uint32_t));
-	s->triangle_object = (uint32_t *)pvs__alloc_array(&a, desc->triangle_count, sizeof(uint32_t));
-	s->object_boxes = (pvs_box *)pvs__alloc_array(&a, desc->object_count, sizeof(pvs_box));
-	s->object_flags = (uint32_t *)pvs__alloc_array(&a, desc->object_count, sizeof(uint32_t));
-	s->object_triangles = (uint32_t *)pvs__alloc_array(&a, (size_t)desc->object_count * 2, sizeof(uint32_t));
-	s->occluders = (pvs_occluder_desc *)pvs__alloc_array(&a, desc->occluder_count, sizeof(pvs_occluder_desc));
-	s->occluder_boxes = (pvs_box *)pvs__alloc_array(&a, desc->occluder_count, sizeof(pvs_box));
-	s->occluder_data = (float *)pvs__alloc_array(&a, floats, sizeof(float));
-	tri_boxes = (pvs_box *)pvs__alloc_array(&a, desc->triangle_count, sizeof(pvs_box));
+	s->positions = PVS__ALLOC_N(&a, float, (size_t)desc->vertex_count * 3);
+	s->indices = PVS__ALLOC_N(&a, uint32_t, (size_t)desc->triangle_count * 3);
+	s->triangle_object = PVS__ALLOC_N(&a, uint32_t, desc->triangle_count);
+	s->object_boxes = PVS__ALLOC_N(&a, pvs_box, desc->object_count);
+	s->object_flags = PVS__ALLOC_N(&a, uint32_t, desc->object_count);
+	s->object_triangles = PVS__ALLOC_N(&a, uint32_t, (size_t)desc->object_count * 2);
+	s->occluders = PVS__ALLOC_N(&a, pvs_occluder_desc, desc->occluder_count);
+	s->occluder_boxes = PVS__ALLOC_N(&a, pvs_box, desc->occluder_count);
+	s->occluder_data = PVS__ALLOC_N(&a, float, floats);
+	tri_boxes = PVS__ALLOC_N(&a, pvs_box, desc->triangle_count);
 	if (!s->positions || !s->indices || !s->triangle_object || !s->object_boxes || !s->object_flags ||
 		!s->object_triangles || !s->occluders || !s->occluder_boxes || !s->occluder_data || !tri_boxes) {
 		r = PVS__OOM(err, "scene arrays");
@@ -2386,12 +2389,12 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
 	r = pvs__scene_prepare_rays(s, tri_boxes, err);
 	if (r == PVS_OK) r = pvs__scene_trees(s, desc, tri_boxes, err);
 	if (r != PVS_OK) goto fail;
-	pvs__free_array(&a, tri_boxes, desc->triangle_count, sizeof(pvs_box));
+	PVS__FREE_N(&a, tri_boxes, desc->triangle_count);
 	*out = s;
 	pvs__ok(err);
 	return PVS_OK;
 fail:
-	pvs__free_array(&a, tri_boxes, desc->triangle_count, sizeof(pvs_box));
+	PVS__FREE_N(&a, tri_boxes, desc->triangle_count);
 	pvs_scene_destroy(s);
 	return r;
 }
@@ -2501,7 +2504,7 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 			++t; /* pair used up */
 		}
 		if (!pass) {
-			*out = (float *)pvs__alloc_array(a, (size_t)n * 6 + 6, sizeof(float));
+			*out = PVS__ALLOC_N(a, float, (size_t)n * 6 + 6);
 			if (!*out) return PVS_ERROR_OUT_OF_MEMORY;
 		}
 	}
@@ -2730,8 +2733,8 @@ PVS_API void pvs_kdtree_destroy(pvs_kdtree *t) {
 	pvs_allocator a;
 	if (!t) return;
 	a = t->allocator;
-	pvs__free_array(&a, t->nodes, t->node_capacity, sizeof(pvs__kdnode));
-	pvs__free_array(&a, t->items, t->item_capacity, sizeof(uint32_t));
+	PVS__FREE_N(&a, t->nodes, t->node_capacity);
+	PVS__FREE_N(&a, t->items, t->item_capacity);
 	pvs__free(&a, t, sizeof(*t), 16);
 }
 
@@ -2803,7 +2806,7 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	r = pvs__kd_build(b, 0, 0, m, &t->bounds, 0);
 done:
 	if (b) {
-		pvs__free_array(&a, b->refs, b->ref_capacity, sizeof(pvs__kdref));
+		PVS__FREE_N(&a, b->refs, b->ref_capacity);
 		pvs__free(&a, b, sizeof(*b), 16);
 	}
 	if (r != PVS_OK) {
@@ -3043,7 +3046,7 @@ PVS__STATIC int pvs__point_less(const float *a, const float *b) {
 
 PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err) {
 	uint32_t t;
-	s->triangle_corners = (float *)pvs__alloc_array(&s->allocator, (size_t)s->triangle_count * 9, sizeof(float));
+	s->triangle_corners = PVS__ALLOC_N(&s->allocator, float, (size_t)s->triangle_count * 9);
 	if (!s->triangle_corners) return PVS__OOM(err, "triangle corners");
 	for (t = 0; t < s->triangle_count; ++t) {
 		const float *c[3], *x;
@@ -8492,7 +8495,7 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
 									  pvs_error *err) {
 	pvs_kdtree_desc kd;
 	uint32_t nf = desc->facade_count, no = desc->object_count;
-	pvs_box *boxes = (pvs_box *)pvs__alloc_array(al, (size_t)nf + no + 1, sizeof(pvs_box));
+	pvs_box *boxes = PVS__ALLOC_N(al, pvs_box, (size_t)nf + no + 1);
 	pvs_result r;
 	if (!boxes) return PVS__OOM(err, "2.5D boxes");
 	pvs_visibility_25d_boxes(desc->facades, nf, desc->objects, no, boxes);
@@ -8501,7 +8504,7 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
 	kd.count = nf + no;
 	kd.allocator = *al;
 	r = pvs_kdtree_create(&kd, out, err);
-	pvs__free_array(al, boxes, (size_t)nf + no + 1, sizeof(pvs_box));
+	PVS__FREE_N(al, boxes, (size_t)nf + no + 1);
 	return r;
 }
 
@@ -9560,9 +9563,9 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 	r = PVS_ERROR_OUT_OF_MEMORY;
 	total = n;
 	ot->facade_cap = n;
-	ot->facades = (float *)pvs__alloc_array(&ot->allocator, (size_t)n * 5 + 5, sizeof(float));
-	ot->objects = (float *)pvs__alloc_array(&ot->allocator, (size_t)ot->object_count * 5 + 5, sizeof(float));
-	ord = (pvs__key_index *)pvs__alloc_array(&ot->allocator, (size_t)n + 1, sizeof(pvs__key_index));
+	ot->facades = PVS__ALLOC_N(&ot->allocator, float, (size_t)n * 5 + 5);
+	ot->objects = PVS__ALLOC_N(&ot->allocator, float, (size_t)ot->object_count * 5 + 5);
+	ord = PVS__ALLOC_N(&ot->allocator, pvs__key_index, (size_t)n + 1);
 	if (!ot->facades || !ot->objects || !ord) goto done;
 	/* usable facades: base <= top cell bottom of whole bake (shards agree) */
 	for (i = 0; i < cell_count; ++i)
@@ -9639,7 +9642,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 	r = PVS_OK;
 done:
 	pvs__free(&ot->allocator, fac, fac_floats * sizeof(float), 16);
-	pvs__free_array(&ot->allocator, ord, (size_t)total + 1, sizeof(pvs__key_index));
+	PVS__FREE_N(&ot->allocator, ord, (size_t)total + 1);
 	return r;
 }
 
@@ -9663,7 +9666,7 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 	d.cell_top = c->max[up];
 	d.allocator = ot->allocator;
 	d.node_budget = ot->budget;
-	grp = (unsigned char *)pvs__alloc_array(&ot->allocator, (size_t)no + 1, 1);
+	grp = PVS__ALLOC_N(&ot->allocator, unsigned char, (size_t)no + 1);
 	if (!grp) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u object levels", cell);
 	for (i = 0; i < no; ++i) { /* drawable object's level: highest <= its floor */
 		float fl = s->object_boxes[i].min[up];
@@ -9684,8 +9687,8 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 		d.object_count = no;
 		if (used != 1u << k || below) { /* other levels' objects out */
 			if (!own) {
-				own = (float *)pvs__alloc_array(&ot->allocator, (size_t)no * 5 + 5, sizeof(float));
-				part = (pvs_word *)pvs__alloc_array(&ot->allocator, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
+				own = PVS__ALLOC_N(&ot->allocator, float, (size_t)no * 5 + 5);
+				part = PVS__ALLOC_N(&ot->allocator, pvs_word, PVS_BITSET_WORDS(no) + 1);
 				if (!own || !part) {
 					r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u objects", cell);
 					break;
@@ -9703,9 +9706,9 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 		}
 		if (r == PVS_OK && st.budget_exceeded) *flags |= PVS__BAKE_OTREE_BUDGET;
 	}
-	if (own) pvs__free_array(&ot->allocator, own, (size_t)no * 5 + 5, sizeof(float));
-	if (part) pvs__free_array(&ot->allocator, part, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
-	pvs__free_array(&ot->allocator, grp, (size_t)no + 1, 1);
+	if (own) PVS__FREE_N(&ot->allocator, own, (size_t)no * 5 + 5);
+	if (part) PVS__FREE_N(&ot->allocator, part, PVS_BITSET_WORDS(no) + 1);
+	PVS__FREE_N(&ot->allocator, grp, (size_t)no + 1);
 	if (r != PVS_OK) {
 		if (err) err->index = cell;
 		return r;
@@ -9720,8 +9723,8 @@ PVS__STATIC void pvs__otree_bake_destroy(const pvs__bake_env *env, void *state) 
 	uint32_t k;
 	(void)env;
 	if (!ot) return;
-	pvs__free_array(&ot->allocator, ot->facades, (size_t)ot->facade_cap * 5 + 5, sizeof(float));
-	pvs__free_array(&ot->allocator, ot->objects, (size_t)ot->object_count * 5 + 5, sizeof(float));
+	PVS__FREE_N(&ot->allocator, ot->facades, (size_t)ot->facade_cap * 5 + 5);
+	PVS__FREE_N(&ot->allocator, ot->objects, (size_t)ot->object_count * 5 + 5);
 	for (k = 0; k < PVS__OT25_LEVELS; ++k) pvs_kdtree_destroy(ot->tree[k]);
 	pvs__free(&ot->allocator, ot, sizeof(*ot), 16);
 }
@@ -9975,21 +9978,21 @@ PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *b
 	pvs__obvh_key *keys = NULL;
 	memset(h, 0, sizeof(*h));
 	h->object_count = count;
-	h->items = (uint32_t *)pvs__alloc_array(al, count ? count : 1, sizeof(uint32_t));
-	h->leaf_of = (uint32_t *)pvs__alloc_array(al, count ? count : 1, sizeof(uint32_t));
+	h->items = PVS__ALLOC_N(al, uint32_t, count ? count : 1);
+	h->leaf_of = PVS__ALLOC_N(al, uint32_t, count ? count : 1);
 	if (!h->items || !h->leaf_of) return PVS_ERROR_OUT_OF_MEMORY;
 	for (i = 0; i < count; ++i) {
 		h->leaf_of[i] = 0xffffffffu;
 		if (!keep || keep[i]) h->items[n++] = i;
 	}
 	h->item_count = n;
-	h->nodes = (pvs__obvh_node *)pvs__alloc_array(al, 2 * (size_t)n + 1, sizeof(pvs__obvh_node));
-	h->count_below = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)n + 1, sizeof(uint32_t));
-	stack = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)n + 2, sizeof(uint32_t));
-	keys = (pvs__obvh_key *)pvs__alloc_array(al, n ? n : 1, sizeof(pvs__obvh_key));
+	h->nodes = PVS__ALLOC_N(al, pvs__obvh_node, 2 * (size_t)n + 1);
+	h->count_below = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)n + 1);
+	stack = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)n + 2);
+	keys = PVS__ALLOC_N(al, pvs__obvh_key, n ? n : 1);
 	if (!h->nodes || !h->count_below || !stack || !keys || !n) {
-		pvs__free_array(al, stack, 2 * (size_t)n + 2, sizeof(uint32_t));
-		pvs__free_array(al, keys, n ? n : 1, sizeof(pvs__obvh_key));
+		PVS__FREE_N(al, stack, 2 * (size_t)n + 2);
+		PVS__FREE_N(al, keys, n ? n : 1);
 		return h->nodes && h->count_below && stack && keys ? PVS_OK : PVS_ERROR_OUT_OF_MEMORY;
 	}
 	h->node_count = 1;
@@ -10041,28 +10044,28 @@ PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *b
 		stack[sp++] = h->node_count + 1;
 		h->node_count += 2;
 	}
-	pvs__free_array(al, stack, 2 * (size_t)n + 2, sizeof(uint32_t));
-	pvs__free_array(al, keys, n ? n : 1, sizeof(pvs__obvh_key));
+	PVS__FREE_N(al, stack, 2 * (size_t)n + 2);
+	PVS__FREE_N(al, keys, n ? n : 1);
 	return PVS_OK;
 }
 PVS__STATIC void pvs__obvh_free(const pvs_allocator *a, pvs__obvh *h) {
-	pvs__free_array(a, h->items, h->object_count ? h->object_count : 1, sizeof(uint32_t));
-	pvs__free_array(a, h->leaf_of, h->object_count ? h->object_count : 1, sizeof(uint32_t));
-	pvs__free_array(a, h->nodes, 2 * (size_t)h->item_count + 1, sizeof(pvs__obvh_node));
-	pvs__free_array(a, h->count_below, 2 * (size_t)h->item_count + 1, sizeof(uint32_t));
+	PVS__FREE_N(a, h->items, h->object_count ? h->object_count : 1);
+	PVS__FREE_N(a, h->leaf_of, h->object_count ? h->object_count : 1);
+	PVS__FREE_N(a, h->nodes, 2 * (size_t)h->item_count + 1);
+	PVS__FREE_N(a, h->count_below, 2 * (size_t)h->item_count + 1);
 	memset(h, 0, sizeof(*h));
 }
 
 PVS__STATIC pvs_result pvs__occluders_hierarchies(pvs_occluders *o) {
 	const pvs_scene *s = o->scene;
-	uint8_t *keep = (uint8_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, 1);
+	uint8_t *keep = PVS__ALLOC_N(&o->allocator, uint8_t, s->object_count ? s->object_count : 1);
 	uint32_t i;
 	pvs_result r;
 	if (!keep) return PVS_ERROR_OUT_OF_MEMORY;
 	for (i = 0; i < s->object_count; ++i)
 		keep[i] = !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i);
 	r = pvs__obvh_build(&o->allocator, s->object_boxes, s->object_count, keep, &o->bvh);
-	pvs__free_array(&o->allocator, keep, s->object_count ? s->object_count : 1, 1);
+	PVS__FREE_N(&o->allocator, keep, s->object_count ? s->object_count : 1);
 	if (r == PVS_OK) r = pvs__obvh_build(&o->allocator, o->chain_boxes, o->chain_count, NULL, &o->chain_bvh);
 	return r;
 }
@@ -10073,21 +10076,21 @@ PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
 	a = o->allocator;
 	pvs__obvh_free(&a, &o->bvh);
 	pvs__obvh_free(&a, &o->chain_bvh);
-	pvs__free_array(&a, o->excluded, o->info.excluded_cells, sizeof(uint32_t));
-	pvs__free_array(&a, o->excluded_boxes, o->info.excluded_cells, sizeof(pvs_box));
-	pvs__free_array(&a, o->state, o->total, 1);
-	pvs__free_array(&a, o->eroded, o->total, 1);
-	pvs__free_array(&a, o->boxes, o->box_count, sizeof(pvs_box));
-	pvs__free_array(&a, o->chains, o->chain_count ? o->chain_count : 1, sizeof(pvs_facade_chain));
-	pvs__free_array(&a, o->chain_boxes, o->chain_count ? o->chain_count : 1, sizeof(pvs_box));
-	pvs__free_array(&a, o->chain_points, o->chain_point_count ? 2 * o->chain_point_count : 1, sizeof(float));
-	pvs__free_array(&a, o->cols.solid, (size_t)o->cols.nu * o->cols.nv, sizeof(float));
-	pvs__free_array(&a, o->cols.top, (size_t)o->cols.nu * o->cols.nv, sizeof(float));
+	PVS__FREE_N(&a, o->excluded, o->info.excluded_cells);
+	PVS__FREE_N(&a, o->excluded_boxes, o->info.excluded_cells);
+	PVS__FREE_N(&a, o->state, o->total);
+	PVS__FREE_N(&a, o->eroded, o->total);
+	PVS__FREE_N(&a, o->boxes, o->box_count);
+	PVS__FREE_N(&a, o->chains, o->chain_count ? o->chain_count : 1);
+	PVS__FREE_N(&a, o->chain_boxes, o->chain_count ? o->chain_count : 1);
+	PVS__FREE_N(&a, o->chain_points, o->chain_point_count ? 2 * o->chain_point_count : 1);
+	PVS__FREE_N(&a, o->cols.solid, (size_t)o->cols.nu * o->cols.nv);
+	PVS__FREE_N(&a, o->cols.top, (size_t)o->cols.nu * o->cols.nv);
 	{
 		uint32_t l;
 		for (l = 1; l < o->cols.levels; ++l) {
-			pvs__free_array(&a, o->cols.ptop[l], (size_t)o->cols.lw[l] * o->cols.lh[l], sizeof(float));
-			pvs__free_array(&a, o->cols.psolid[l], (size_t)o->cols.lw[l] * o->cols.lh[l], sizeof(float));
+			PVS__FREE_N(&a, o->cols.ptop[l], (size_t)o->cols.lw[l] * o->cols.lh[l]);
+			PVS__FREE_N(&a, o->cols.psolid[l], (size_t)o->cols.lw[l] * o->cols.lh[l]);
 		}
 	}
 	pvs__free(&a, o, sizeof(*o), 16);
@@ -10331,10 +10334,10 @@ typedef struct pvs__vx_topo {
 } pvs__vx_topo;
 
 PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint32_t triangle_count) {
-	pvs__free_array(a, t->tris, triangle_count ? triangle_count : 1, sizeof(uint32_t));
-	pvs__free_array(a, t->comp_first, (size_t)triangle_count + 2, sizeof(uint32_t));
-	pvs__free_array(a, t->open_first, (size_t)triangle_count + 2, sizeof(uint32_t));
-	pvs__free_array(a, t->open_edges, (size_t)(t->open_count ? t->open_count : 1) * 6, sizeof(float));
+	PVS__FREE_N(a, t->tris, triangle_count ? triangle_count : 1);
+	PVS__FREE_N(a, t->comp_first, (size_t)triangle_count + 2);
+	PVS__FREE_N(a, t->open_first, (size_t)triangle_count + 2);
+	PVS__FREE_N(a, t->open_edges, (size_t)(t->open_count ? t->open_count : 1) * 6);
 	memset(t, 0, sizeof(*t));
 }
 
@@ -10367,14 +10370,14 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	size_t e0, e1;
 	pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
 	memset(t, 0, sizeof(*t));
-	vk = (pvs__vx_vkey *)pvs__alloc_array(a, nv ? nv : 1, sizeof(pvs__vx_vkey));
-	canon = (uint32_t *)pvs__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
-	ed = (pvs__vx_edge *)pvs__alloc_array(a, (size_t)(nt ? nt : 1) * 3, sizeof(pvs__vx_edge));
-	parent = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
-	cid = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
-	t->tris = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
-	t->comp_first = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 2, sizeof(uint32_t));
-	t->open_first = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 2, sizeof(uint32_t));
+	vk = PVS__ALLOC_N(a, pvs__vx_vkey, nv ? nv : 1);
+	canon = PVS__ALLOC_N(a, uint32_t, nv ? nv : 1);
+	ed = PVS__ALLOC_N(a, pvs__vx_edge, (size_t)(nt ? nt : 1) * 3);
+	parent = PVS__ALLOC_N(a, uint32_t, nt ? nt : 1);
+	cid = PVS__ALLOC_N(a, uint32_t, nt ? nt : 1);
+	t->tris = PVS__ALLOC_N(a, uint32_t, nt ? nt : 1);
+	t->comp_first = PVS__ALLOC_N(a, uint32_t, (size_t)nt + 2);
+	t->open_first = PVS__ALLOC_N(a, uint32_t, (size_t)nt + 2);
 	if (!vk || !canon || !ed || !parent || !cid || !t->tris || !t->comp_first || !t->open_first) goto done;
 	pvs__weld(s, vk, canon);
 	for (i = 0; i < nt; ++i) {
@@ -10423,7 +10426,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 		if (p0[up] == g && p1[up] == g) continue;
 		ed[t->open_count++] = ed[e0]; /* in place: open_count <= e0 */
 	}
-	t->open_edges = (float *)pvs__alloc_array(a, (size_t)(t->open_count ? t->open_count : 1) * 6, sizeof(float));
+	t->open_edges = PVS__ALLOC_N(a, float, (size_t)(t->open_count ? t->open_count : 1) * 6);
 	if (!t->open_edges) goto done;
 	memset(t->open_first, 0, ((size_t)t->comp_count + 2) * sizeof(uint32_t));
 	for (i = 0; i < t->open_count; ++i) ++t->open_first[cid[ed[i].tri] + 1];
@@ -10439,11 +10442,11 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	}
 	res = PVS_OK;
 done:
-	pvs__free_array(a, vk, nv ? nv : 1, sizeof(pvs__vx_vkey));
-	pvs__free_array(a, canon, nv ? nv : 1, sizeof(uint32_t));
-	pvs__free_array(a, ed, (size_t)(nt ? nt : 1) * 3, sizeof(pvs__vx_edge));
-	pvs__free_array(a, parent, nt ? nt : 1, sizeof(uint32_t));
-	pvs__free_array(a, cid, nt ? nt : 1, sizeof(uint32_t));
+	PVS__FREE_N(a, vk, nv ? nv : 1);
+	PVS__FREE_N(a, canon, nv ? nv : 1);
+	PVS__FREE_N(a, ed, (size_t)(nt ? nt : 1) * 3);
+	PVS__FREE_N(a, parent, nt ? nt : 1);
+	PVS__FREE_N(a, cid, nt ? nt : 1);
 	if (res != PVS_OK) pvs__vx_topo_free(a, t, nt);
 	return res;
 }
@@ -11181,11 +11184,11 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 	pvs__vx_grange(&cm->grid, v, gk->origin[v] + lo[v] * hk, gk->origin[v] + (hi[v] + 1) * hk, 0.0, &sv0, &sv1);
 	if (su0 > su1 || sv0 > sv1) return PVS_OK;
 	nsub = (size_t)(su1 - su0 + 1) * (sv1 - sv0 + 1);
-	runh = (float *)pvs__alloc_array(&o->allocator, ncol, sizeof(float));
-	tmin = (float *)pvs__alloc_array(&o->allocator, nsub, sizeof(float));
+	runh = PVS__ALLOC_N(&o->allocator, float, ncol);
+	tmin = PVS__ALLOC_N(&o->allocator, float, nsub);
 	if (!runh || !tmin) {
-		pvs__free_array(&o->allocator, runh, ncol, sizeof(float));
-		pvs__free_array(&o->allocator, tmin, nsub, sizeof(float));
+		PVS__FREE_N(&o->allocator, runh, ncol);
+		PVS__FREE_N(&o->allocator, tmin, nsub);
 		return PVS_ERROR_OUT_OF_MEMORY;
 	}
 	/* proved-solid runs from ground (box layer 1) */
@@ -11236,8 +11239,8 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 				if (!(a >= e0 && a <= e1 && b >= f0 && b <= f1)) cm->top[x] = sky;
 			}
 	}
-	pvs__free_array(&o->allocator, runh, ncol, sizeof(float));
-	pvs__free_array(&o->allocator, tmin, nsub, sizeof(float));
+	PVS__FREE_N(&o->allocator, runh, ncol);
+	PVS__FREE_N(&o->allocator, tmin, nsub);
 	return PVS_OK;
 }
 
@@ -11520,9 +11523,9 @@ PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_
 	size_t x;
 	int u, v;
 	pvs__ground_axes(o->scene->up_axis, &u, &v);
-	o->chains = (pvs_facade_chain *)pvs__alloc_array(al, cb->count ? cb->count : 1, sizeof(pvs_facade_chain));
-	o->chain_boxes = (pvs_box *)pvs__alloc_array(al, cb->count ? cb->count : 1, sizeof(pvs_box));
-	o->chain_points = (float *)pvs__alloc_array(al, cb->npts ? 2 * cb->npts : 1, sizeof(float));
+	o->chains = PVS__ALLOC_N(al, pvs_facade_chain, cb->count ? cb->count : 1);
+	o->chain_boxes = PVS__ALLOC_N(al, pvs_box, cb->count ? cb->count : 1);
+	o->chain_points = PVS__ALLOC_N(al, float, cb->npts ? 2 * cb->npts : 1);
 	if (!o->chains || !o->chain_boxes || !o->chain_points) return PVS_ERROR_OUT_OF_MEMORY;
 	o->chain_count = (uint32_t)cb->count;
 	o->chain_point_count = cb->npts;
@@ -11560,9 +11563,9 @@ PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
 	pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
 	memset(&w, 0, sizeof(w));
 	w.o = o;
-	w.label = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
-	w.queue = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
-	w.members = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+	w.label = PVS__ALLOC_N(al, uint32_t, n ? n : 1);
+	w.queue = PVS__ALLOC_N(al, uint32_t, n ? n : 1);
+	w.members = PVS__ALLOC_N(al, uint32_t, n ? n : 1);
 	if (!w.label || !w.queue || !w.members) goto done;
 	for (x = 0; x < n; ++x) {
 		float t = cm->top[x];
@@ -11578,17 +11581,17 @@ PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
 	}
 	res = pvs__vx_chains_hand_over(o, &w.cb);
 done:
-	pvs__free_array(al, w.label, n ? n : 1, sizeof(uint32_t));
-	pvs__free_array(al, w.queue, n ? n : 1, sizeof(uint32_t));
-	pvs__free_array(al, w.members, n ? n : 1, sizeof(uint32_t));
-	pvs__free_array(al, w.lev, w.lcap, sizeof(float));
-	pvs__free_array(al, w.mask, w.mcap, 1);
-	pvs__free_array(al, w.inl, w.scap, 1);
-	pvs__free_array(al, w.sub, w.ucap, sizeof(uint32_t));
-	pvs__free_array(al, w.used, w.cap, 1);
+	PVS__FREE_N(al, w.label, n ? n : 1);
+	PVS__FREE_N(al, w.queue, n ? n : 1);
+	PVS__FREE_N(al, w.members, n ? n : 1);
+	PVS__FREE_N(al, w.lev, w.lcap);
+	PVS__FREE_N(al, w.mask, w.mcap);
+	PVS__FREE_N(al, w.inl, w.scap);
+	PVS__FREE_N(al, w.sub, w.ucap);
+	PVS__FREE_N(al, w.used, w.cap);
 	pvs__free_array(al, w.ipts, w.ipcap, 2 * sizeof(int32_t));
-	pvs__free_array(al, w.cb.chains, w.cb.cap, sizeof(pvs_facade_chain));
-	pvs__free_array(al, w.cb.first, w.cb.cap_first, sizeof(size_t));
+	PVS__FREE_N(al, w.cb.chains, w.cb.cap);
+	PVS__FREE_N(al, w.cb.first, w.cb.cap_first);
 	pvs__free_array(al, w.cb.points, w.cb.cap_pts, 2 * sizeof(float));
 	return res;
 }
@@ -11603,8 +11606,8 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
 	cm->psolid[0] = cm->solid;
 	for (l = 1; l < PVS__VX_LEVELS && (cm->lw[l - 1] > 1 || cm->lh[l - 1] > 1); ++l) {
 		uint32_t w = (cm->lw[l - 1] + 1) / 2, h = (cm->lh[l - 1] + 1) / 2, pw = cm->lw[l - 1], ph = cm->lh[l - 1];
-		cm->ptop[l] = (float *)pvs__alloc_array(&o->allocator, (size_t)w * h, sizeof(float));
-		cm->psolid[l] = (float *)pvs__alloc_array(&o->allocator, (size_t)w * h, sizeof(float));
+		cm->ptop[l] = PVS__ALLOC_N(&o->allocator, float, (size_t)w * h);
+		cm->psolid[l] = PVS__ALLOC_N(&o->allocator, float, (size_t)w * h);
 		cm->lw[l] = w;
 		cm->lh[l] = h;
 		cm->levels = l + 1;
@@ -11641,7 +11644,7 @@ PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx
 	*out = eps;
 	for (comp = 0; comp < tp->comp_count; ++comp) n += tp->comp_first[comp + 1] - tp->comp_first[comp] >= 3;
 	if (!n) return PVS_OK;
-	ext = (double *)pvs__alloc_array(al, 3 * (size_t)n, sizeof(double));
+	ext = PVS__ALLOC_N(al, double, 3 * (size_t)n);
 	if (!ext) return PVS_ERROR_OUT_OF_MEMORY;
 	for (comp = 0, n = 0; comp < tp->comp_count; ++comp) {
 		double lo[3], hi[3];
@@ -11667,7 +11670,7 @@ PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx
 		if (total <= budget || !(h < 1e30)) break;
 		h *= 1.26;
 	}
-	pvs__free_array(al, ext, 3 * (size_t)n, sizeof(double));
+	PVS__FREE_N(al, ext, 3 * (size_t)n);
 	*out = h;
 	return PVS_OK;
 }
@@ -11737,8 +11740,8 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 	nmap = (size_t)cm->nu * cm->nv;
 	/* chain points', heights' float precision + voxel margin */
 	margin = 8.0 * FLT_EPSILON * scale + m;
-	cm->solid = (float *)pvs__alloc_array(al, nmap, sizeof(float));
-	cm->top = (float *)pvs__alloc_array(al, nmap, sizeof(float));
+	cm->solid = PVS__ALLOC_N(al, float, nmap);
+	cm->top = PVS__ALLOC_N(al, float, nmap);
 	if (!cm->solid || !cm->top) return PVS_ERROR_OUT_OF_MEMORY;
 	for (x = 0; x < nmap; ++x) { cm->solid[x] = (float)g; cm->top[x] = -FLT_MAX; }
 	if (pvs__vx_component_voxel(s, tp, al, eps, m, &h0) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
@@ -11761,16 +11764,16 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 		}
 		ncol = (size_t)(hi[u] - lo[u] + 1) * (hi[v] - lo[v] + 1);
 		if (vol > fl->cap_vox) {
-			pvs__free_array(al, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
-			pvs__free_array(al, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
-			fl->bits = (uint8_t *)pvs__alloc_array(al, vol, 1);
-			fl->queue = (uint32_t *)pvs__alloc_array(al, 2 * vol, sizeof(uint32_t));
+			PVS__FREE_N(al, fl->bits, fl->cap_vox ? fl->cap_vox : 1);
+			PVS__FREE_N(al, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1);
+			fl->bits = PVS__ALLOC_N(al, uint8_t, vol);
+			fl->queue = PVS__ALLOC_N(al, uint32_t, 2 * vol);
 			fl->cap_vox = vol;
 			if (!fl->bits || !fl->queue) return PVS_ERROR_OUT_OF_MEMORY;
 		}
 		if (ncol > fl->cap_col) {
-			pvs__free_array(al, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
-			fl->col = (uint8_t *)pvs__alloc_array(al, ncol, 1);
+			PVS__FREE_N(al, fl->col, fl->cap_col ? fl->cap_col : 1);
+			fl->col = PVS__ALLOC_N(al, uint8_t, ncol);
 			fl->cap_col = ncol;
 			if (!fl->col) return PVS_ERROR_OUT_OF_MEMORY;
 		}
@@ -11805,12 +11808,12 @@ typedef struct pvs__vx_build {
 PVS__STATIC void pvs__vx_flood_free(pvs__vx_build *b) {
 	const pvs_allocator *a = &b->a;
 	pvs__vx_flood *fl = &b->fl;
-	pvs__free_array(a, fl->bucket_first, b->nbuckets + 1, sizeof(uint32_t));
-	pvs__free_array(a, fl->bucket_cells, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
-	pvs__free_array(a, fl->stamp, b->d->cell_count, sizeof(uint32_t));
-	if (fl->queue != b->queue) pvs__free_array(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
-	pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
-	pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+	PVS__FREE_N(a, fl->bucket_first, b->nbuckets + 1);
+	PVS__FREE_N(a, fl->bucket_cells, b->bucket_entries ? b->bucket_entries : 1);
+	PVS__FREE_N(a, fl->stamp, b->d->cell_count);
+	if (fl->queue != b->queue) PVS__FREE_N(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1);
+	PVS__FREE_N(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1);
+	PVS__FREE_N(a, fl->col, fl->cap_col ? fl->cap_col : 1);
 	fl->bits = fl->col = NULL;
 	fl->queue = fl->bucket_first = fl->bucket_cells = fl->stamp = NULL;
 }
@@ -11820,11 +11823,11 @@ PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
 	const pvs_allocator *a = &b->a;
 	pvs__vx_flood_free(b);
 	pvs__free_array(a, b->fl.cellbuf, b->d->cell_count, 7);
-	pvs__free_array(a, b->cbox, (size_t)(b->tp.comp_count ? b->tp.comp_count : 1) * 6, sizeof(uint32_t));
+	PVS__FREE_N(a, b->cbox, (size_t)(b->tp.comp_count ? b->tp.comp_count : 1) * 6);
 	pvs__vx_topo_free(a, &b->tp, b->s->triangle_count);
-	pvs__free_array(a, b->tmp, b->total, 1);
-	pvs__free_array(a, b->queue, b->qcap, sizeof(uint32_t));
-	pvs__free_array(a, b->line, 1u + b->o->n[0] + b->o->n[1] + b->o->n[2], 1);
+	PVS__FREE_N(a, b->tmp, b->total);
+	PVS__FREE_N(a, b->queue, b->qcap);
+	PVS__FREE_N(a, b->line, 1u + b->o->n[0] + b->o->n[1] + b->o->n[2]);
 }
 
 /* Voxel grid over scene and cells: voxel_size or eps / 1.5 (erosion: 2 voxels = 1.33 eps), grown by 1.08 to fit
@@ -11871,15 +11874,15 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 		o->grid.n[kk] = o->n[kk];
 	}
 	o->grid.h = h;
-	o->state = (uint8_t *)pvs__alloc_array(a, total, 1);
-	o->eroded = (uint8_t *)pvs__alloc_array(a, total, 1);
-	b->tmp = (uint8_t *)pvs__alloc_array(a, total, 1);
-	b->line = (uint8_t *)pvs__alloc_array(a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+	o->state = PVS__ALLOC_N(a, uint8_t, total);
+	o->eroded = PVS__ALLOC_N(a, uint8_t, total);
+	b->tmp = PVS__ALLOC_N(a, uint8_t, total);
+	b->line = PVS__ALLOC_N(a, uint8_t, 1u + o->n[0] + o->n[1] + o->n[2]);
 	if (!o->state || !o->eroded || !b->tmp || !b->line || total > 0x7fffffffu) {
 		uint32_t dims[3];
 		memcpy(dims, o->n, sizeof(dims)); /* used after o is gone */
-		pvs__free_array(a, b->tmp, total, 1);
-		pvs__free_array(a, b->line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+		PVS__FREE_N(a, b->tmp, total);
+		PVS__FREE_N(a, b->line, 1u + o->n[0] + o->n[1] + o->n[2]);
 		pvs_occluders_destroy(o);
 		b->tmp = b->line = NULL;
 		return PVS__OOM(err, "voxel grid %u x %u x %u", dims[0], dims[1], dims[2]);
@@ -11916,8 +11919,8 @@ PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
 	fl->bucket_grid.n[u] = fl->bnu;
 	fl->bucket_grid.n[v] = fl->bnv;
 	b->nbuckets = nbuckets = (size_t)fl->bnu * fl->bnv;
-	fl->bucket_first = (uint32_t *)pvs__alloc_array(a, nbuckets + 1, sizeof(uint32_t));
-	fl->stamp = (uint32_t *)pvs__alloc_array(a, d->cell_count, sizeof(uint32_t));
+	fl->bucket_first = PVS__ALLOC_N(a, uint32_t, nbuckets + 1);
+	fl->stamp = PVS__ALLOC_N(a, uint32_t, d->cell_count);
 	fl->cellbuf = (uint8_t *)pvs__alloc_array(a, d->cell_count, 7);
 	if (!fl->bucket_first || !fl->stamp || !fl->cellbuf) return PVS_ERROR_OUT_OF_MEMORY;
 	memset(fl->bucket_first, 0, (nbuckets + 1) * sizeof(uint32_t));
@@ -11931,8 +11934,7 @@ PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
 		if (bpass) {
 			for (vi = 0; vi < nbuckets; ++vi) fl->bucket_first[vi + 1] += fl->bucket_first[vi];
 			b->bucket_entries = fl->bucket_first[nbuckets];
-			fl->bucket_cells =
-				(uint32_t *)pvs__alloc_array(a, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
+			fl->bucket_cells = PVS__ALLOC_N(a, uint32_t, b->bucket_entries ? b->bucket_entries : 1);
 			if (!fl->bucket_cells) return PVS_ERROR_OUT_OF_MEMORY;
 		}
 		for (c = 0; c < d->cell_count; ++c) {
@@ -11960,7 +11962,7 @@ PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
 	const pvs__vx_topo *tp = &b->tp;
 	pvs__vx_flood *fl = &b->fl;
 	uint32_t c;
-	b->cbox = (uint32_t *)pvs__alloc_array(&b->a, (size_t)(tp->comp_count ? tp->comp_count : 1) * 6, sizeof(uint32_t));
+	b->cbox = PVS__ALLOC_N(&b->a, uint32_t, (size_t)(tp->comp_count ? tp->comp_count : 1) * 6);
 	if (!b->cbox) return PVS_ERROR_OUT_OF_MEMORY;
 	for (c = 0; c < tp->comp_count; ++c) {
 		uint32_t *bx = b->cbox + 6 * (size_t)c;
@@ -11988,9 +11990,9 @@ PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
 	if (pvs__vx_topology(b->s, (float)b->g, a, &b->tp) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
 	if (pvs__vx_build_boxes(b) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
 	b->qcap = b->total > 2 * fl->cap_vox ? b->total : 2 * fl->cap_vox;
-	fl->bits = (uint8_t *)pvs__alloc_array(a, fl->cap_vox ? fl->cap_vox : 1, 1);
-	fl->col = (uint8_t *)pvs__alloc_array(a, fl->cap_col ? fl->cap_col : 1, 1);
-	b->queue = (uint32_t *)pvs__alloc_array(a, b->qcap, sizeof(uint32_t));
+	fl->bits = PVS__ALLOC_N(a, uint8_t, fl->cap_vox ? fl->cap_vox : 1);
+	fl->col = PVS__ALLOC_N(a, uint8_t, fl->cap_col ? fl->cap_col : 1);
+	b->queue = PVS__ALLOC_N(a, uint32_t, b->qcap);
 	fl->queue = b->queue;
 	if (!fl->bits || !fl->col || !b->queue) return PVS_ERROR_OUT_OF_MEMORY;
 	memset(&tv, 0, sizeof(tv));
@@ -12012,9 +12014,9 @@ PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
 		}
 	}
 	o->info.open_edges = tp->open_count;
-	pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
-	pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
-	pvs__free_array(a, b->cbox, (size_t)(tp->comp_count ? tp->comp_count : 1) * 6, sizeof(uint32_t));
+	PVS__FREE_N(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1);
+	PVS__FREE_N(a, fl->col, fl->cap_col ? fl->cap_col : 1);
+	PVS__FREE_N(a, b->cbox, (size_t)(tp->comp_count ? tp->comp_count : 1) * 6);
 	fl->bits = fl->col = NULL;
 	fl->queue = NULL; /* b->queue keeps it */
 	fl->cap_vox = fl->cap_col = 0;
@@ -12158,8 +12160,8 @@ PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
 	o->info.excluded_cells = fl->excluded_count;
 	if (fl->excluded_count) {
 		uint32_t n = 0;
-		o->excluded = (uint32_t *)pvs__alloc_array(a, fl->excluded_count, sizeof(uint32_t));
-		o->excluded_boxes = (pvs_box *)pvs__alloc_array(a, fl->excluded_count, sizeof(pvs_box));
+		o->excluded = PVS__ALLOC_N(a, uint32_t, fl->excluded_count);
+		o->excluded_boxes = PVS__ALLOC_N(a, pvs_box, fl->excluded_count);
 		if (!o->excluded || !o->excluded_boxes) {
 			pvs__free_array(a, fl->cellbuf, d->cell_count, 7);
 			fl->cellbuf = NULL;
@@ -12183,7 +12185,7 @@ PVS__STATIC void pvs__vx_erode_merge(pvs__vx_build *b, uint32_t r) {
 	for (vi = 0; vi < total; ++vi) o->info.eroded += o->eroded[vi];
 	memcpy(b->tmp, o->eroded, total);
 	o->box_count = pvs__vx_merge(o, b->tmp, NULL);
-	o->boxes = (pvs_box *)pvs__alloc_array(&b->a, o->box_count ? o->box_count : 1, sizeof(pvs_box));
+	o->boxes = PVS__ALLOC_N(&b->a, pvs_box, o->box_count ? o->box_count : 1);
 	if (o->boxes) {
 		memcpy(b->tmp, o->eroded, total);
 		pvs__vx_merge(o, b->tmp, o->boxes);
@@ -12337,7 +12339,7 @@ PVS__STATIC pvs_result pvs__walk_solids(pvs__walk *k, pvs_error *err) {
 	pvs_kdtree_desc kd;
 	uint32_t c, t;
 	if (pvs__vx_topology(s, s->bounds.min[k->up], &k->d.allocator, &k->tp) != PVS_OK) return PVS__OOM(err, "meshes");
-	k->cbox = (pvs_box *)pvs__alloc_array(&k->d.allocator, k->tp.comp_count + 1, sizeof(pvs_box));
+	k->cbox = PVS__ALLOC_N(&k->d.allocator, pvs_box, k->tp.comp_count + 1);
 	if (!k->cbox) return PVS__OOM(err, "mesh boxes");
 	for (c = 0; c < k->tp.comp_count; ++c) { /* closed, or open only around base: standing on floor */
 		float base;
@@ -12593,11 +12595,11 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 	const pvs_allocator *al = &k->d.allocator;
 	uint32_t gnu = (k->nu + 3) / 4, nsq = gnu * ((k->nv + 3) / 4), i, n = 0, *sq_first;
 	size_t ng = 0, a;
-	pvs__wgroup *g = (pvs__wgroup *)pvs__alloc_array(al, k->n ? k->n : 1, sizeof(pvs__wgroup));
-	sq_first = (uint32_t *)pvs__alloc_array(al, (size_t)nsq + 1, sizeof(uint32_t));
+	pvs__wgroup *g = PVS__ALLOC_N(al, pvs__wgroup, k->n ? k->n : 1);
+	sq_first = PVS__ALLOC_N(al, uint32_t, (size_t)nsq + 1);
 	if (!g || !sq_first) {
-		pvs__free_array(al, g, k->n ? k->n : 1, sizeof(pvs__wgroup));
-		pvs__free_array(al, sq_first, (size_t)nsq + 1, sizeof(uint32_t));
+		PVS__FREE_N(al, g, k->n ? k->n : 1);
+		PVS__FREE_N(al, sq_first, (size_t)nsq + 1);
 		return PVS__OOM(err, "walkable groups");
 	}
 	for (a = 0; a < k->n; ++a) { /* group per local root (its lowest sample) */
@@ -12629,8 +12631,8 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 	for (a = 0; a < ng; ++a)
 		if (!g[a].used) pvs__walk_merge(k, g, sq_first, g + a, cells, capacity, &n);
 	*count = n;
-	pvs__free_array(al, g, k->n ? k->n : 1, sizeof(pvs__wgroup));
-	pvs__free_array(al, sq_first, (size_t)nsq + 1, sizeof(uint32_t));
+	PVS__FREE_N(al, g, k->n ? k->n : 1);
+	PVS__FREE_N(al, sq_first, (size_t)nsq + 1);
 	return PVS_OK;
 }
 
@@ -12707,7 +12709,7 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 	if ((double)k.nu * k.nv > (double)(1u << 26))
 		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "walkable: %.0f sample columns (a larger cell_size)",
 						 (double)k.nu * k.nv);
-	k.first = (uint32_t *)pvs__alloc_array(&k.d.allocator, ncol + 1, sizeof(uint32_t));
+	k.first = PVS__ALLOC_N(&k.d.allocator, uint32_t, ncol + 1);
 	r = k.first ? pvs__walk_solids(&k, err) : PVS__OOM(err, "walkable columns");
 	for (c = 0; c < ncol && r == PVS_OK; ++c) {
 		k.first[c] = (uint32_t)k.n;
@@ -12716,8 +12718,8 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 	if (k.first) k.first[ncol] = (uint32_t)k.n;
 	if (r == PVS_OK) {
 		nlink = k.n ? k.n : 1;
-		k.local = (uint32_t *)pvs__alloc_array(&k.d.allocator, nlink, sizeof(uint32_t));
-		k.global = (uint32_t *)pvs__alloc_array(&k.d.allocator, nlink, sizeof(uint32_t));
+		k.local = PVS__ALLOC_N(&k.d.allocator, uint32_t, nlink);
+		k.global = PVS__ALLOC_N(&k.d.allocator, uint32_t, nlink);
 		if (!k.local || !k.global) r = PVS__OOM(err, "walkable links");
 	}
 	if (r == PVS_OK && k.d.seed) { /* keep floors a walk reaches from one under seed */
@@ -12750,11 +12752,11 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 		pvs__walk_link(&k, k.local);
 		r = pvs__walk_cells(&k, cells, capacity, count, err);
 	}
-	pvs__free_array(&k.d.allocator, k.first, ncol + 1, sizeof(uint32_t));
-	pvs__free_array(&k.d.allocator, k.local, nlink, sizeof(uint32_t));
-	pvs__free_array(&k.d.allocator, k.global, nlink, sizeof(uint32_t));
-	pvs__free_array(&k.d.allocator, k.w, k.cap, sizeof(pvs__wsample));
-	pvs__free_array(&k.d.allocator, k.cbox, k.tp.comp_count + 1, sizeof(pvs_box));
+	PVS__FREE_N(&k.d.allocator, k.first, ncol + 1);
+	PVS__FREE_N(&k.d.allocator, k.local, nlink);
+	PVS__FREE_N(&k.d.allocator, k.global, nlink);
+	PVS__FREE_N(&k.d.allocator, k.w, k.cap);
+	PVS__FREE_N(&k.d.allocator, k.cbox, k.tp.comp_count + 1);
 	pvs__vx_topo_free(&k.d.allocator, &k.tp, s->triangle_count);
 	pvs_kdtree_destroy(k.solids);
 	if (r == PVS_OK) pvs__ok(err);
@@ -12846,23 +12848,23 @@ PVS__STATIC void pvs__vprep_destroy(pvs__vprep *p) {
 	const pvs_allocator *a;
 	if (!p) return;
 	a = &p->a;
-	pvs__free_array(a, p->seg, 4 * (size_t)p->nseg + 4, sizeof(double));
-	pvs__free_array(a, p->seg_top, (size_t)p->nseg + 1, sizeof(float));
-	pvs__free_array(a, p->seg_vid, 2 * (size_t)p->nseg + 2, sizeof(uint32_t));
-	pvs__free_array(a, p->seg_loop, (size_t)p->nseg + 1, sizeof(int32_t));
-	pvs__free_array(a, p->loop_start, (size_t)p->nseg + 2, sizeof(uint32_t));
-	pvs__free_array(a, p->ring_seg, (size_t)p->nseg + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->ring_pt, 2 * (size_t)p->nseg + 2, sizeof(double));
-	pvs__free_array(a, p->hull_start, (size_t)p->nseg + 2, sizeof(uint32_t));
-	pvs__free_array(a, p->hull_pt, 2 * (size_t)p->nseg + 2, sizeof(double));
-	pvs__free_array(a, p->hull_vid, (size_t)p->nseg + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->loop_top, (size_t)p->nseg + 1, sizeof(float));
-	pvs__free_array(a, p->loop_bb, 4 * (size_t)p->nseg + 4, sizeof(double));
-	pvs__free_array(a, p->obj_ref, (size_t)p->nseg + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->obj_bb, 4 * (size_t)p->nseg + 4, sizeof(double));
-	pvs__free_array(a, p->obj_top, (size_t)p->nseg + 1, sizeof(float));
-	pvs__free_array(a, p->gstart, (size_t)p->gw * p->gh + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->gitem, p->gitems + 1, sizeof(uint32_t));
+	PVS__FREE_N(a, p->seg, 4 * (size_t)p->nseg + 4);
+	PVS__FREE_N(a, p->seg_top, (size_t)p->nseg + 1);
+	PVS__FREE_N(a, p->seg_vid, 2 * (size_t)p->nseg + 2);
+	PVS__FREE_N(a, p->seg_loop, (size_t)p->nseg + 1);
+	PVS__FREE_N(a, p->loop_start, (size_t)p->nseg + 2);
+	PVS__FREE_N(a, p->ring_seg, (size_t)p->nseg + 1);
+	PVS__FREE_N(a, p->ring_pt, 2 * (size_t)p->nseg + 2);
+	PVS__FREE_N(a, p->hull_start, (size_t)p->nseg + 2);
+	PVS__FREE_N(a, p->hull_pt, 2 * (size_t)p->nseg + 2);
+	PVS__FREE_N(a, p->hull_vid, (size_t)p->nseg + 1);
+	PVS__FREE_N(a, p->loop_top, (size_t)p->nseg + 1);
+	PVS__FREE_N(a, p->loop_bb, 4 * (size_t)p->nseg + 4);
+	PVS__FREE_N(a, p->obj_ref, (size_t)p->nseg + 1);
+	PVS__FREE_N(a, p->obj_bb, 4 * (size_t)p->nseg + 4);
+	PVS__FREE_N(a, p->obj_top, (size_t)p->nseg + 1);
+	PVS__FREE_N(a, p->gstart, (size_t)p->gw * p->gh + 1);
+	PVS__FREE_N(a, p->gitem, p->gitems + 1);
 	pvs__free(a, p, sizeof(*p), 16);
 }
 
@@ -13054,7 +13056,7 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 	p->gw = (uint32_t)(w / cs) + 1;
 	p->gh = (uint32_t)(hh / cs) + 1;
 	cells = (size_t)p->gw * p->gh;
-	p->gstart = (uint32_t *)pvs__alloc_array(al, cells + 1, sizeof(uint32_t));
+	p->gstart = PVS__ALLOC_N(al, uint32_t, cells + 1);
 	if (!p->gstart) return PVS_ERROR_OUT_OF_MEMORY;
 	memset(p->gstart, 0, (cells + 1) * sizeof(uint32_t));
 	for (j = 0; j < 2; ++j) {
@@ -13092,7 +13094,7 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 		if (!j) {
 			size_t c2;
 			p->gitems = total;
-			p->gitem = (uint32_t *)pvs__alloc_array(al, total + 1, sizeof(uint32_t));
+			p->gitem = PVS__ALLOC_N(al, uint32_t, total + 1);
 			if (!p->gitem) return PVS_ERROR_OUT_OF_MEMORY;
 			/* prefix sums: gstart[c + 1] ends bucket c; filling moves it to start */
 			for (c2 = 0; c2 < cells; ++c2) p->gstart[c2 + 1] += p->gstart[c2];
@@ -13118,27 +13120,27 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
 	p->a = *al;
 	for (i = 0; i < n; ++i) m += !(seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]);
 	p->nseg = m;
-	p->seg = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
-	p->seg_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
-	p->seg_vid = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-	p->seg_loop = (int32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(int32_t));
-	p->loop_start = (uint32_t *)pvs__alloc_array(al, (size_t)m + 2, sizeof(uint32_t));
-	p->ring_seg = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
-	p->ring_pt = (double *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(double));
-	p->hull_start = (uint32_t *)pvs__alloc_array(al, (size_t)m + 2, sizeof(uint32_t));
-	p->hull_pt = (double *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(double));
-	p->hull_vid = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
-	p->loop_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
-	p->loop_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
-	p->obj_ref = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
-	p->obj_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
-	p->obj_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
-	w.keys = (pvs__key_index *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(pvs__key_index));
-	w.deg = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-	w.adj = (uint32_t *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(uint32_t));
-	w.uf = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-	w.idx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-	w.hidx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+	p->seg = PVS__ALLOC_N(al, double, 4 * (size_t)m + 4);
+	p->seg_top = PVS__ALLOC_N(al, float, (size_t)m + 1);
+	p->seg_vid = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)m + 2);
+	p->seg_loop = PVS__ALLOC_N(al, int32_t, (size_t)m + 1);
+	p->loop_start = PVS__ALLOC_N(al, uint32_t, (size_t)m + 2);
+	p->ring_seg = PVS__ALLOC_N(al, uint32_t, (size_t)m + 1);
+	p->ring_pt = PVS__ALLOC_N(al, double, 2 * (size_t)m + 2);
+	p->hull_start = PVS__ALLOC_N(al, uint32_t, (size_t)m + 2);
+	p->hull_pt = PVS__ALLOC_N(al, double, 2 * (size_t)m + 2);
+	p->hull_vid = PVS__ALLOC_N(al, uint32_t, (size_t)m + 1);
+	p->loop_top = PVS__ALLOC_N(al, float, (size_t)m + 1);
+	p->loop_bb = PVS__ALLOC_N(al, double, 4 * (size_t)m + 4);
+	p->obj_ref = PVS__ALLOC_N(al, uint32_t, (size_t)m + 1);
+	p->obj_bb = PVS__ALLOC_N(al, double, 4 * (size_t)m + 4);
+	p->obj_top = PVS__ALLOC_N(al, float, (size_t)m + 1);
+	w.keys = PVS__ALLOC_N(al, pvs__key_index, 2 * (size_t)m + 2);
+	w.deg = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)m + 2);
+	w.adj = PVS__ALLOC_N(al, uint32_t, 4 * (size_t)m + 4);
+	w.uf = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)m + 2);
+	w.idx = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)m + 2);
+	w.hidx = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)m + 2);
 	if (!p->seg || !p->seg_top || !p->seg_vid || !p->seg_loop || !p->loop_start || !p->ring_seg || !p->ring_pt ||
 		!p->hull_start || !p->hull_pt || !p->hull_vid || !p->loop_top || !p->loop_bb || !p->obj_ref || !p->obj_bb ||
 		!p->obj_top || !w.keys || !w.deg || !w.adj || !w.uf || !w.idx || !w.hidx)
@@ -13154,12 +13156,12 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
 	pvs__vprep_objects(p);
 	r = pvs__vprep_grid(p, al);
 done:
-	pvs__free_array(al, w.keys, 2 * (size_t)m + 2, sizeof(pvs__key_index));
-	pvs__free_array(al, w.deg, 2 * (size_t)m + 2, sizeof(uint32_t));
-	pvs__free_array(al, w.adj, 4 * (size_t)m + 4, sizeof(uint32_t));
-	pvs__free_array(al, w.uf, 2 * (size_t)m + 2, sizeof(uint32_t));
-	pvs__free_array(al, w.idx, 2 * (size_t)m + 2, sizeof(uint32_t));
-	pvs__free_array(al, w.hidx, 2 * (size_t)m + 2, sizeof(uint32_t));
+	PVS__FREE_N(al, w.keys, 2 * (size_t)m + 2);
+	PVS__FREE_N(al, w.deg, 2 * (size_t)m + 2);
+	PVS__FREE_N(al, w.adj, 4 * (size_t)m + 4);
+	PVS__FREE_N(al, w.uf, 2 * (size_t)m + 2);
+	PVS__FREE_N(al, w.idx, 2 * (size_t)m + 2);
+	PVS__FREE_N(al, w.hidx, 2 * (size_t)m + 2);
 	if (r != PVS_OK) {
 		p->nseg = m; /* sizes for frees */
 		pvs__vprep_destroy(p);
@@ -13247,8 +13249,8 @@ PVS__STATIC void pvs__vctx_free(pvs__vctx *c) {
 	PVS__VO_FREE(a, c->vx, c->capvx, double);
 	PVS__VO_FREE(a, c->vid, c->capvid, uint32_t);
 	if (c->p) {
-		pvs__free_array(a, c->pfirst, (size_t)c->p->nobj + 1, sizeof(uint32_t));
-		pvs__free_array(a, c->pcount, (size_t)c->p->nobj + 1, sizeof(uint32_t));
+		PVS__FREE_N(a, c->pfirst, (size_t)c->p->nobj + 1);
+		PVS__FREE_N(a, c->pcount, (size_t)c->p->nobj + 1);
 	}
 	PVS__VO_FREE(a, c->g, c->capg, uint32_t);
 	PVS__VO_FREE(a, c->k, c->capk, uint32_t);
@@ -13296,8 +13298,8 @@ PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs_
 	c->scale = ext;
 	c->tol = PVS__VO_RTOL * ext;
 	c->range = range > 0.0 ? range : 4.0 * ext;
-	c->pfirst = (uint32_t *)pvs__alloc_array(al, (size_t)p->nobj + 1, sizeof(uint32_t));
-	c->pcount = (uint32_t *)pvs__alloc_array(al, (size_t)p->nobj + 1, sizeof(uint32_t));
+	c->pfirst = PVS__ALLOC_N(al, uint32_t, (size_t)p->nobj + 1);
+	c->pcount = PVS__ALLOC_N(al, uint32_t, (size_t)p->nobj + 1);
 	if (!c->pfirst || !c->pcount) { c->oom = 1; return 0; }
 	return 1;
 }
@@ -14347,7 +14349,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
 	pvs__key_index *order;
 	uint32_t i, n = c->nobj, grown = 0;
-	order = (pvs__key_index *)pvs__alloc_array(c->al, (size_t)n + 1, sizeof(pvs__key_index));
+	order = PVS__ALLOC_N(c->al, pvs__key_index, (size_t)n + 1);
 	if (!order) { c->oom = 1; return; }
 	for (i = 0; i < n; ++i) {
 		order[i].key = -c->obj[i].angle;
@@ -14363,7 +14365,7 @@ PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
 		pvs__vo_grow(c, o);
 		++grown;
 	}
-	pvs__free_array(c->al, order, (size_t)n + 1, sizeof(pvs__key_index));
+	PVS__FREE_N(c->al, order, (size_t)n + 1);
 }
 
 /* Growth's virtual occluder: rounded as stored, checked, kept. */
@@ -14849,7 +14851,7 @@ PVS__STATIC void pvs__vbake_destroy(pvs__vbake *vb) {
 	if (!vb) return;
 	a = vb->a;
 	pvs__vprep_destroy(vb->prep);
-	pvs__free_array(&a, vb->boxes, (size_t)vb->object_count + 1, sizeof(pvs_box));
+	PVS__FREE_N(&a, vb->boxes, (size_t)vb->object_count + 1);
 	pvs__free(&a, vb, sizeof(*vb), 16);
 }
 
@@ -14882,9 +14884,9 @@ PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator
 		if (o->kind == PVS_OCCLUDER_EXTRUSION && o->base <= ground) extra += o->footprint_count;
 		if (o->kind == PVS_OCCLUDER_BOX && o->box.min[up] <= ground) extra += 4;
 	}
-	seg = (double *)pvs__alloc_array(a, 4 * ((size_t)nf + extra) + 4, sizeof(double));
-	top = (float *)pvs__alloc_array(a, (size_t)nf + extra + 1, sizeof(float));
-	vb->boxes = (pvs_box *)pvs__alloc_array(a, (size_t)s->object_count + 1, sizeof(pvs_box));
+	seg = PVS__ALLOC_N(a, double, 4 * ((size_t)nf + extra) + 4);
+	top = PVS__ALLOC_N(a, float, (size_t)nf + extra + 1);
+	vb->boxes = PVS__ALLOC_N(a, pvs_box, (size_t)s->object_count + 1);
 	r = PVS_ERROR_OUT_OF_MEMORY;
 	if (!seg || !top || !vb->boxes) goto done;
 	tmax = ground;
@@ -14931,9 +14933,9 @@ PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator
 	}
 	r = pvs__vprep_create(a, seg, top, n, &vb->prep);
 done:
-	pvs__free_array(a, fac, (size_t)nf * 6 + 6, sizeof(float));
-	pvs__free_array(a, seg, 4 * ((size_t)nf + extra) + 4, sizeof(double));
-	pvs__free_array(a, top, (size_t)nf + extra + 1, sizeof(float));
+	PVS__FREE_N(a, fac, (size_t)nf * 6 + 6);
+	PVS__FREE_N(a, seg, 4 * ((size_t)nf + extra) + 4);
+	PVS__FREE_N(a, top, (size_t)nf + extra + 1);
 	if (r != PVS_OK) {
 		pvs__vbake_destroy(vb);
 		return r;
@@ -14950,11 +14952,11 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
 	pvs__key_index *key;
 	double *w, total = 0.0, acc = 0.0;
 	uint32_t i, m = 0, j = 0, out = 0;
-	key = (pvs__key_index *)pvs__alloc_array(al, (size_t)p->nobj + 1, sizeof(pvs__key_index));
-	w = (double *)pvs__alloc_array(al, (size_t)p->nobj + 1, sizeof(double));
+	key = PVS__ALLOC_N(al, pvs__key_index, (size_t)p->nobj + 1);
+	w = PVS__ALLOC_N(al, double, (size_t)p->nobj + 1);
 	if (!key || !w) {
-		pvs__free_array(al, key, (size_t)p->nobj + 1, sizeof(pvs__key_index));
-		pvs__free_array(al, w, (size_t)p->nobj + 1, sizeof(double));
+		PVS__FREE_N(al, key, (size_t)p->nobj + 1);
+		PVS__FREE_N(al, w, (size_t)p->nobj + 1);
 		return 0;
 	}
 	for (i = 0; i < p->nobj; ++i) {
@@ -14994,8 +14996,8 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
 		hh = (float)key[j].key;
 		if (!out || hh > h[out - 1]) h[out++] = hh;
 	}
-	pvs__free_array(al, key, (size_t)p->nobj + 1, sizeof(pvs__key_index));
-	pvs__free_array(al, w, (size_t)p->nobj + 1, sizeof(double));
+	PVS__FREE_N(al, key, (size_t)p->nobj + 1);
+	PVS__FREE_N(al, w, (size_t)p->nobj + 1);
 	return out;
 }
 
@@ -15040,10 +15042,10 @@ PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, u
 									uint32_t words, uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
 	const pvs_allocator *al = &vb->a;
 	uint32_t min_gain = vb->object_count / 1000u + 1u, keep = 0, i, j;
-	sw->rt = (pvs__vo_rt *)pvs__alloc_array(al, c->nout, sizeof(pvs__vo_rt));
-	sw->hid = (pvs_word *)pvs__alloc_array(al, (size_t)c->nout * words, sizeof(pvs_word));
-	sw->covered = (pvs_word *)pvs__alloc_array(al, words, sizeof(pvs_word));
-	sw->sel = (pvs__vo_rt *)pvs__alloc_array(al, (size_t)vb->max_keep + 1, sizeof(pvs__vo_rt));
+	sw->rt = PVS__ALLOC_N(al, pvs__vo_rt, c->nout);
+	sw->hid = PVS__ALLOC_N(al, pvs_word, (size_t)c->nout * words);
+	sw->covered = PVS__ALLOC_N(al, pvs_word, words);
+	sw->sel = PVS__ALLOC_N(al, pvs__vo_rt, (size_t)vb->max_keep + 1);
 	if (!sw->rt || !sw->hid || !sw->covered || !sw->sel) { *r = PVS_ERROR_OUT_OF_MEMORY; return 0; }
 	memset(sw->hid, 0, (size_t)c->nout * words * sizeof(pvs_word));
 	memset(sw->covered, 0, words * sizeof(pvs_word));
@@ -15117,10 +15119,10 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
 	c.st.selected = keep;
 	if (stats) pvs__vo_stats_add(stats, &c.st);
 done:
-	if (sw.rt) pvs__free_array(al, sw.rt, c.nout, sizeof(pvs__vo_rt));
-	if (sw.hid) pvs__free_array(al, sw.hid, (size_t)c.nout * words, sizeof(pvs_word));
-	if (sw.covered) pvs__free_array(al, sw.covered, words, sizeof(pvs_word));
-	if (sw.sel) pvs__free_array(al, sw.sel, (size_t)vb->max_keep + 1, sizeof(pvs__vo_rt));
+	if (sw.rt) PVS__FREE_N(al, sw.rt, c.nout);
+	if (sw.hid) PVS__FREE_N(al, sw.hid, (size_t)c.nout * words);
+	if (sw.covered) PVS__FREE_N(al, sw.covered, words);
+	if (sw.sel) PVS__FREE_N(al, sw.sel, (size_t)vb->max_keep + 1);
 	if (c.al) pvs__vctx_free(&c);
 	if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "virtual occluders: out of memory");
 	return PVS_OK;
@@ -15153,8 +15155,8 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t c
 		if (!pvs__finite(d->segments[i]))
 			return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 4, 0, "segment %u is not finite", i / 4);
 	al = d->allocator;
-	seg = (double *)pvs__alloc_array(&al, 4 * (size_t)d->segment_count + 4, sizeof(double));
-	top = (float *)pvs__alloc_array(&al, (size_t)d->segment_count + 1, sizeof(float));
+	seg = PVS__ALLOC_N(&al, double, 4 * (size_t)d->segment_count + 4);
+	top = PVS__ALLOC_N(&al, float, (size_t)d->segment_count + 1);
 	if (!seg || !top) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
 	for (i = 0; i < 4 * d->segment_count; ++i) seg[i] = d->segments[i];
 	for (i = 0; i < d->segment_count; ++i) top[i] = 1.0f;
@@ -15178,8 +15180,8 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t c
 	if (stats) *stats = c.st;
 	pvs__vctx_free(&c);
 done:
-	pvs__free_array(&al, seg, 4 * (size_t)d->segment_count + 4, sizeof(double));
-	pvs__free_array(&al, top, (size_t)d->segment_count + 1, sizeof(float));
+	PVS__FREE_N(&al, seg, 4 * (size_t)d->segment_count + 4);
+	PVS__FREE_N(&al, top, (size_t)d->segment_count + 1);
 	pvs__vprep_destroy(p);
 	if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "virtual occluders: out of memory");
 	pvs__ok(err);
@@ -15227,10 +15229,10 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
 						 "vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual "
 						 "occluders cannot be built");
 	vo->only = desc->vocc.only;
-	vo->bytes = (uint8_t *)pvs__alloc_array(&env->allocator, (size_t)vo->task_count * keep * 5, 1);
-	vo->count = (uint8_t *)pvs__alloc_array(&env->allocator, vo->task_count, 1);
-	vo->scale = (uint8_t *)pvs__alloc_array(&env->allocator, vo->task_count, 1);
-	vo->stats = (pvs_vocc_stats *)pvs__alloc_array(&env->allocator, vo->task_count, sizeof(pvs_vocc_stats));
+	vo->bytes = PVS__ALLOC_N(&env->allocator, uint8_t, (size_t)vo->task_count * keep * 5);
+	vo->count = PVS__ALLOC_N(&env->allocator, uint8_t, vo->task_count);
+	vo->scale = PVS__ALLOC_N(&env->allocator, uint8_t, vo->task_count);
+	vo->stats = PVS__ALLOC_N(&env->allocator, pvs_vocc_stats, vo->task_count);
 	if (!vo->bytes || !vo->count || !vo->scale || !vo->stats)
 		return PVS__OOM(err, "vocc: per-cell occluders");
 	memset(vo->count, 0, vo->task_count);
@@ -15289,10 +15291,10 @@ PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
 	pvs__vocc_bake *vo = (pvs__vocc_bake *)state;
 	(void)env;
 	if (!vo) return;
-	pvs__free_array(&vo->allocator, vo->bytes, (size_t)vo->task_count * vo->keep * 5, 1);
-	pvs__free_array(&vo->allocator, vo->count, vo->task_count, 1);
-	pvs__free_array(&vo->allocator, vo->scale, vo->task_count, 1);
-	pvs__free_array(&vo->allocator, vo->stats, vo->task_count, sizeof(pvs_vocc_stats));
+	PVS__FREE_N(&vo->allocator, vo->bytes, (size_t)vo->task_count * vo->keep * 5);
+	PVS__FREE_N(&vo->allocator, vo->count, vo->task_count);
+	PVS__FREE_N(&vo->allocator, vo->scale, vo->task_count);
+	PVS__FREE_N(&vo->allocator, vo->stats, vo->task_count);
 	pvs__vbake_destroy(vo->vb);
 	pvs__free(&vo->allocator, vo, sizeof(*vo), 16);
 }
@@ -17460,18 +17462,18 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
 	pvs_allocator a;
 	if (!p) return;
 	a = p->allocator;
-	pvs__free_array(&a, p->occ, p->occ_capacity, sizeof(pvs__epocc));
-	pvs__free_array(&a, p->pts, p->pt_capacity * 3, sizeof(float));
-	pvs__free_array(&a, p->slc, p->slc_capacity, sizeof(pvs__epslice));
-	pvs__free_array(&a, p->stri, p->stri_capacity, sizeof(uint32_t));
-	pvs__free_array(&a, p->bedge, p->bedge_capacity * 6, sizeof(float));
-	pvs__free_array(&a, p->spoly, p->spoly_capacity * 2, sizeof(float));
-	pvs__free_array(&a, p->cedge, p->cedge_capacity * 6, sizeof(float));
+	PVS__FREE_N(&a, p->occ, p->occ_capacity);
+	PVS__FREE_N(&a, p->pts, p->pt_capacity * 3);
+	PVS__FREE_N(&a, p->slc, p->slc_capacity);
+	PVS__FREE_N(&a, p->stri, p->stri_capacity);
+	PVS__FREE_N(&a, p->bedge, p->bedge_capacity * 6);
+	PVS__FREE_N(&a, p->spoly, p->spoly_capacity * 2);
+	PVS__FREE_N(&a, p->cedge, p->cedge_capacity * 6);
 	{
 		int c;
 		for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
 			pvs_kdtree_destroy(p->occ_tree[c]);
-			pvs__free_array(&a, p->class_occ[c], (size_t)p->class_count[c] + 1, sizeof(uint32_t));
+			PVS__FREE_N(&a, p->class_occ[c], (size_t)p->class_count[c] + 1);
 		}
 	}
 	pvs__free(&a, p, sizeof(*p), 16);
@@ -17748,50 +17750,50 @@ typedef struct pvs__epprepwork {
 
 PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
 	size_t n = w->cap;
-	pvs__free_array(a, w->ref, 3 * n, sizeof(pvs__vx_vkey));
-	pvs__free_array(a, w->canon, 3 * n, sizeof(uint32_t));
+	PVS__FREE_N(a, w->ref, 3 * n);
+	PVS__FREE_N(a, w->canon, 3 * n);
 	pvs__free_array(a, (void *)w->vpos, 3 * n, sizeof(const float *));
-	pvs__free_array(a, w->owner, 3 * n, sizeof(uint32_t));
-	pvs__free_array(a, w->parent, n, sizeof(uint32_t));
-	pvs__free_array(a, w->order, n, sizeof(uint32_t));
-	pvs__free_array(a, w->start, n + 1, sizeof(uint32_t));
-	pvs__free_array(a, w->edges, 3 * n, sizeof(uint64_t));
-	pvs__free_array(a, w->mark, 3 * n, sizeof(uint32_t));
-	pvs__free_array(a, w->uv, 3 * n, sizeof(uint32_t));
-	pvs__free_array(a, w->e2, 3 * n, sizeof(pvs__epedge2));
-	pvs__free_array(a, w->ends, 6 * n, sizeof(pvs__epend));
-	pvs__free_array(a, w->q2, 2 * (3 * n + 1), sizeof(float));
-	pvs__free_array(a, w->keep, 3 * n + 1, 1);
-	pvs__free_array(a, w->gparent, n, sizeof(uint32_t));
-	pvs__free_array(a, w->used, n, 1);
-	pvs__free_array(a, w->hp, 2 * (3 * n + 1), sizeof(double));
-	pvs__free_array(a, w->hh, 2 * (3 * n + 1), sizeof(double));
-	pvs__free_array(a, w->bed, 3 * n, sizeof(uint64_t));
+	PVS__FREE_N(a, w->owner, 3 * n);
+	PVS__FREE_N(a, w->parent, n);
+	PVS__FREE_N(a, w->order, n);
+	PVS__FREE_N(a, w->start, n + 1);
+	PVS__FREE_N(a, w->edges, 3 * n);
+	PVS__FREE_N(a, w->mark, 3 * n);
+	PVS__FREE_N(a, w->uv, 3 * n);
+	PVS__FREE_N(a, w->e2, 3 * n);
+	PVS__FREE_N(a, w->ends, 6 * n);
+	PVS__FREE_N(a, w->q2, 2 * (3 * n + 1));
+	PVS__FREE_N(a, w->keep, 3 * n + 1);
+	PVS__FREE_N(a, w->gparent, n);
+	PVS__FREE_N(a, w->used, n);
+	PVS__FREE_N(a, w->hp, 2 * (3 * n + 1));
+	PVS__FREE_N(a, w->hh, 2 * (3 * n + 1));
+	PVS__FREE_N(a, w->bed, 3 * n);
 	memset(w, 0, sizeof(*w));
 }
 
 PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, size_t n) {
 	memset(w, 0, sizeof(*w));
 	w->cap = n;
-	w->ref = (pvs__vx_vkey *)pvs__alloc_array(a, 3 * n, sizeof(pvs__vx_vkey));
-	w->canon = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+	w->ref = PVS__ALLOC_N(a, pvs__vx_vkey, 3 * n);
+	w->canon = PVS__ALLOC_N(a, uint32_t, 3 * n);
 	w->vpos = (const float **)pvs__alloc_array(a, 3 * n, sizeof(const float *));
-	w->owner = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
-	w->parent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
-	w->order = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
-	w->start = (uint32_t *)pvs__alloc_array(a, n + 1, sizeof(uint32_t));
-	w->edges = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
-	w->mark = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
-	w->uv = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
-	w->e2 = (pvs__epedge2 *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epedge2));
-	w->q2 = (float *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(float));
-	w->keep = (unsigned char *)pvs__alloc_array(a, 3 * n + 1, 1);
-	w->ends = (pvs__epend *)pvs__alloc_array(a, 6 * n, sizeof(pvs__epend));
-	w->gparent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
-	w->used = (unsigned char *)pvs__alloc_array(a, n, 1);
-	w->hp = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
-	w->hh = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
-	w->bed = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
+	w->owner = PVS__ALLOC_N(a, uint32_t, 3 * n);
+	w->parent = PVS__ALLOC_N(a, uint32_t, n);
+	w->order = PVS__ALLOC_N(a, uint32_t, n);
+	w->start = PVS__ALLOC_N(a, uint32_t, n + 1);
+	w->edges = PVS__ALLOC_N(a, uint64_t, 3 * n);
+	w->mark = PVS__ALLOC_N(a, uint32_t, 3 * n);
+	w->uv = PVS__ALLOC_N(a, uint32_t, 3 * n);
+	w->e2 = PVS__ALLOC_N(a, pvs__epedge2, 3 * n);
+	w->q2 = PVS__ALLOC_N(a, float, 2 * (3 * n + 1));
+	w->keep = PVS__ALLOC_N(a, unsigned char, 3 * n + 1);
+	w->ends = PVS__ALLOC_N(a, pvs__epend, 6 * n);
+	w->gparent = PVS__ALLOC_N(a, uint32_t, n);
+	w->used = PVS__ALLOC_N(a, unsigned char, n);
+	w->hp = PVS__ALLOC_N(a, double, 2 * (3 * n + 1));
+	w->hh = PVS__ALLOC_N(a, double, 2 * (3 * n + 1));
+	w->bed = PVS__ALLOC_N(a, uint64_t, 3 * n);
 	return w->hp && w->hh && w->bed && w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start &&
 		w->edges && w->mark && w->uv && w->e2 && w->q2 && w->keep && w->ends && w->gparent && w->used;
 }
@@ -18368,12 +18370,12 @@ typedef struct pvs__epsheetwork {
 } pvs__epsheetwork;
 
 PVS__STATIC void pvs__ep_sheetwork_free(const pvs_allocator *a, pvs__epsheetwork *w) {
-	pvs__free_array(a, w->e, w->cap, sizeof(pvs__epedge2));
-	pvs__free_array(a, w->q, 2 * (w->cap + 1), sizeof(float));
-	pvs__free_array(a, w->keep, w->cap + 1, 1);
-	pvs__free_array(a, w->ends, 2 * w->cap, sizeof(pvs__epend));
-	pvs__free_array(a, w->uf, w->cap, sizeof(uint32_t));
-	pvs__free_array(a, w->tarea, w->cap, sizeof(double));
+	PVS__FREE_N(a, w->e, w->cap);
+	PVS__FREE_N(a, w->q, 2 * (w->cap + 1));
+	PVS__FREE_N(a, w->keep, w->cap + 1);
+	PVS__FREE_N(a, w->ends, 2 * w->cap);
+	PVS__FREE_N(a, w->uf, w->cap);
+	PVS__FREE_N(a, w->tarea, w->cap);
 }
 
 /* 0: OOM (allocations stay in w). */
@@ -18381,12 +18383,12 @@ PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwo
 	if (cap <= w->cap) return 1;
 	pvs__ep_sheetwork_free(a, w);
 	w->cap = cap;
-	w->e = (pvs__epedge2 *)pvs__alloc_array(a, cap, sizeof(pvs__epedge2));
-	w->q = (float *)pvs__alloc_array(a, 2 * (cap + 1), sizeof(float));
-	w->keep = (unsigned char *)pvs__alloc_array(a, cap + 1, 1);
-	w->ends = (pvs__epend *)pvs__alloc_array(a, 2 * cap, sizeof(pvs__epend));
-	w->uf = (uint32_t *)pvs__alloc_array(a, cap, sizeof(uint32_t));
-	w->tarea = (double *)pvs__alloc_array(a, cap, sizeof(double));
+	w->e = PVS__ALLOC_N(a, pvs__epedge2, cap);
+	w->q = PVS__ALLOC_N(a, float, 2 * (cap + 1));
+	w->keep = PVS__ALLOC_N(a, unsigned char, cap + 1);
+	w->ends = PVS__ALLOC_N(a, pvs__epend, 2 * cap);
+	w->uf = PVS__ALLOC_N(a, uint32_t, cap);
+	w->tarea = PVS__ALLOC_N(a, double, cap);
 	return w->e && w->q && w->keep && w->ends && w->uf && w->tarea;
 }
 
@@ -18550,7 +18552,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
 	double D;
 	for (t = 0; t < s->triangle_count; ++t) nkey += pvs__ep_flat_axis(s, t) >= 0;
 	if (!nkey) return PVS_OK;
-	key = (pvs__epskey *)pvs__alloc_array(a, nkey, sizeof(pvs__epskey));
+	key = PVS__ALLOC_N(a, pvs__epskey, nkey);
 	if (!key) return PVS_ERROR_OUT_OF_MEMORY;
 	memset(&w, 0, sizeof(w));
 	nkey = 0;
@@ -18592,7 +18594,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
 		}
 	}
 done:
-	pvs__free_array(a, key, nkey, sizeof(pvs__epskey));
+	PVS__FREE_N(a, key, nkey);
 	pvs__ep_sheetwork_free(a, &w);
 	return r;
 }
@@ -18662,7 +18664,7 @@ PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *
 PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err) {
 	const pvs_allocator *a = &p->allocator;
 	pvs_kdtree_desc kd;
-	pvs_box *boxes = (pvs_box *)pvs__alloc_array(a, p->occ_count + 1, sizeof(pvs_box));
+	pvs_box *boxes = PVS__ALLOC_N(a, pvs_box, p->occ_count + 1);
 	pvs_result r = PVS_OK;
 	size_t q;
 	int c;
@@ -18670,7 +18672,7 @@ PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err)
 	for (q = 0; q < p->occ_count; ++q) ++p->class_count[pvs__ep_area_class(p->occ[q].area)];
 	for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
 		uint32_t m = 0;
-		p->class_occ[c] = (uint32_t *)pvs__alloc_array(a, (size_t)p->class_count[c] + 1, sizeof(uint32_t));
+		p->class_occ[c] = PVS__ALLOC_N(a, uint32_t, (size_t)p->class_count[c] + 1);
 		if (!p->class_occ[c]) r = PVS_ERROR_OUT_OF_MEMORY;
 		for (q = 0; q < p->occ_count && r == PVS_OK; ++q)
 			if (pvs__ep_area_class(p->occ[q].area) == c) {
@@ -18686,7 +18688,7 @@ PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err)
 		r = pvs_kdtree_create(&kd, &p->occ_tree[c], err);
 		if (r != PVS_OK) break;
 	}
-	pvs__free_array(a, boxes, p->occ_count + 1, sizeof(pvs_box));
+	PVS__FREE_N(a, boxes, p->occ_count + 1);
 	return r;
 }
 
@@ -18716,8 +18718,8 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 	p->allocator = *a;
 	p->occ_capacity = occ_cap;
 	p->pt_capacity = pt_cap;
-	p->occ = (pvs__epocc *)pvs__alloc_array(a, occ_cap, sizeof(pvs__epocc));
-	p->pts = (float *)pvs__alloc_array(a, pt_cap * 3, sizeof(float));
+	p->occ = PVS__ALLOC_N(a, pvs__epocc, occ_cap);
+	p->pts = PVS__ALLOC_N(a, float, pt_cap * 3);
 	for (t = 0; t < s->triangle_count;) { /* largest object (or run of triangles in no object) */
 		uint32_t end = t + 1;
 		while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
@@ -19760,19 +19762,19 @@ typedef struct pvs__epscratch {
 } pvs__epscratch;
 
 PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w, uint32_t res) {
-	pvs__free_array(al, w->sel, w->nsel, sizeof(pvs__epsel));
-	pvs__free_array(al, w->maps, 6 * PVS__EP_PLANES * w->map_floats, sizeof(float));
-	pvs__free_array(al, w->masks, w->nmask * w->mask_bytes, 1);
-	pvs__free_array(al, w->mask_hdr, w->nmask, sizeof(pvs__epmask));
-	pvs__free_array(al, w->sat, w->sat_count * w->sat_table, sizeof(uint32_t));
-	pvs__free_array(al, w->ranges, w->range_count, sizeof(int32_t));
-	pvs__free_array(al, w->slicer.seg, 4 * w->slicer.cap, sizeof(double));
-	pvs__free_array(al, w->slicer.xs, 2 * w->slicer.cap, sizeof(double));
-	pvs__free_array(al, w->slicer.row, w->slicer.width, 1);
-	pvs__free_array(al, w->slicer.cmark, (size_t)res * res, 1);
+	PVS__FREE_N(al, w->sel, w->nsel);
+	PVS__FREE_N(al, w->maps, 6 * PVS__EP_PLANES * w->map_floats);
+	PVS__FREE_N(al, w->masks, w->nmask * w->mask_bytes);
+	PVS__FREE_N(al, w->mask_hdr, w->nmask);
+	PVS__FREE_N(al, w->sat, w->sat_count * w->sat_table);
+	PVS__FREE_N(al, w->ranges, w->range_count);
+	PVS__FREE_N(al, w->slicer.seg, 4 * w->slicer.cap);
+	PVS__FREE_N(al, w->slicer.xs, 2 * w->slicer.cap);
+	PVS__FREE_N(al, w->slicer.row, w->slicer.width);
+	PVS__FREE_N(al, w->slicer.cmark, (size_t)res * res);
 	pvs__free(al, w->sweep, w->sweep_size, 16);
-	pvs__free_array(al, w->seen, w->seen_words, sizeof(pvs_word));
-	pvs__free_array(al, w->stamp, w->stamp_count, sizeof(uint32_t));
+	PVS__FREE_N(al, w->seen, w->seen_words);
+	PVS__FREE_N(al, w->stamp, w->stamp_count);
 }
 
 /* Solid angle of triangle (a, b, c) seen from e (Van Oosterom and Strackee 1983). */
@@ -20306,26 +20308,26 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
 		}
 	}
 	w.seen_words = PVS_BITSET_WORDS(p->occ_count);
-	w.seen = (pvs_word *)pvs__alloc_array(al, w.seen_words, sizeof(pvs_word));
+	w.seen = PVS__ALLOC_N(al, pvs_word, w.seen_words);
 	w.slicer.cap = (size_t)p->max_slice_segments + 4;
 	w.slicer.width = prm->sweep ? pvs__ep_max_side(prm->res) : prm->res;
-	w.sel = (pvs__epsel *)pvs__alloc_array(al, w.nsel, sizeof(pvs__epsel));
-	w.maps = (float *)pvs__alloc_array(al, 6 * PVS__EP_PLANES * w.map_floats, sizeof(float));
-	w.slicer.seg = (double *)pvs__alloc_array(al, 4 * w.slicer.cap, sizeof(double));
-	w.slicer.xs = (double *)pvs__alloc_array(al, 2 * w.slicer.cap, sizeof(double));
-	w.slicer.row = (unsigned char *)pvs__alloc_array(al, w.slicer.width, 1);
-	w.slicer.cmark = (unsigned char *)pvs__alloc_array(al, (size_t)prm->res * prm->res, 1);
+	w.sel = PVS__ALLOC_N(al, pvs__epsel, w.nsel);
+	w.maps = PVS__ALLOC_N(al, float, 6 * PVS__EP_PLANES * w.map_floats);
+	w.slicer.seg = PVS__ALLOC_N(al, double, 4 * w.slicer.cap);
+	w.slicer.xs = PVS__ALLOC_N(al, double, 2 * w.slicer.cap);
+	w.slicer.row = PVS__ALLOC_N(al, unsigned char, w.slicer.width);
+	w.slicer.cmark = PVS__ALLOC_N(al, unsigned char, (size_t)prm->res * prm->res);
 	w.sweep = pvs__alloc(al, w.sweep_size, 16);
 	if (prm->sweep) {
-		w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
-		w.mask_hdr = (pvs__epmask *)pvs__alloc_array(al, w.nmask, sizeof(pvs__epmask));
+		w.masks = PVS__ALLOC_N(al, unsigned char, w.nmask * w.mask_bytes);
+		w.mask_hdr = PVS__ALLOC_N(al, pvs__epmask, w.nmask);
 		w.sat_count = pvs__ep_sat_count(prm->res, prm->sweep); /* >= 2: room for split tables */
 		w.sat_table = pvs__ep_sat_table(prm->res);
-		w.sat = (uint32_t *)pvs__alloc_array(al, w.sat_count * w.sat_table, sizeof(uint32_t));
+		w.sat = PVS__ALLOC_N(al, uint32_t, w.sat_count * w.sat_table);
 		w.range_count = 2 * ((size_t)pvs__ep_max_side(prm->res) + prm->res);
-		w.ranges = (int32_t *)pvs__alloc_array(al, w.range_count, sizeof(int32_t));
+		w.ranges = PVS__ALLOC_N(al, int32_t, w.range_count);
 		w.stamp_count = p->occ_count ? p->occ_count : 1;
-		w.stamp = (uint32_t *)pvs__alloc_array(al, w.stamp_count, sizeof(uint32_t));
+		w.stamp = PVS__ALLOC_N(al, uint32_t, w.stamp_count);
 		if (w.stamp) memset(w.stamp, 0, w.stamp_count * sizeof(uint32_t));
 	}
 	if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.slicer.cmark || !w.sweep || !w.seen ||
@@ -20839,9 +20841,9 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu,
 						 nv);
 	hz = (pvs__hz *)pvs__alloc(&o->allocator, sizeof(pvs__hz), 16);
-	remaining = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
-	stack = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
-	cstack = (uint32_t *)pvs__alloc_array(&o->allocator, ncnodes, sizeof(uint32_t));
+	remaining = PVS__ALLOC_N(&o->allocator, uint32_t, nnodes);
+	stack = PVS__ALLOC_N(&o->allocator, uint32_t, nnodes);
+	cstack = PVS__ALLOC_N(&o->allocator, uint32_t, ncnodes);
 	if (!hz || !remaining || !stack || !cstack) {
 		res = PVS__OOM(err, "shrink scratch");
 		goto done;
@@ -20882,9 +20884,9 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 		}
 done:
 	pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
-	pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
-	pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
-	pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
+	PVS__FREE_N(&o->allocator, remaining, nnodes);
+	PVS__FREE_N(&o->allocator, stack, nnodes);
+	PVS__FREE_N(&o->allocator, cstack, ncnodes);
 	return res;
 }
 
@@ -21048,11 +21050,11 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
 	rd.allocator = o->allocator;
 	res = pvs_raster_create(&rd, &w.r, err);
 	if (res != PVS_OK) return res;
-	w.pos = (float *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 24, sizeof(float));
-	w.idx = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
-	w.seen = (pvs_word *)pvs__alloc_array(&o->allocator, words ? words : 1, sizeof(pvs_word));
-	w.sel = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
-	w.cand = (uint32_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, sizeof(uint32_t));
+	w.pos = PVS__ALLOC_N(&o->allocator, float, (size_t)(nb ? nb : 1) * 24);
+	w.idx = PVS__ALLOC_N(&o->allocator, uint32_t, (size_t)(nb ? nb : 1) * 36);
+	w.seen = PVS__ALLOC_N(&o->allocator, pvs_word, words ? words : 1);
+	w.sel = PVS__ALLOC_N(&o->allocator, uint32_t, (size_t)(nb ? nb : 1) * 36);
+	w.cand = PVS__ALLOC_N(&o->allocator, uint32_t, s->object_count ? s->object_count : 1);
 	if (!w.pos || !w.idx || !w.seen || !w.sel || !w.cand) {
 		res = PVS__OOM(err, "shrink 3D scratch");
 		goto done;
@@ -21086,11 +21088,11 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
 			pvs_bitset_set(visible, ob);
 	res = PVS_OK;
 done:
-	pvs__free_array(&o->allocator, w.pos, (size_t)(nb ? nb : 1) * 24, sizeof(float));
-	pvs__free_array(&o->allocator, w.idx, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
-	pvs__free_array(&o->allocator, w.seen, words ? words : 1, sizeof(pvs_word));
-	pvs__free_array(&o->allocator, w.sel, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
-	pvs__free_array(&o->allocator, w.cand, s->object_count ? s->object_count : 1, sizeof(uint32_t));
+	PVS__FREE_N(&o->allocator, w.pos, (size_t)(nb ? nb : 1) * 24);
+	PVS__FREE_N(&o->allocator, w.idx, (size_t)(nb ? nb : 1) * 36);
+	PVS__FREE_N(&o->allocator, w.seen, words ? words : 1);
+	PVS__FREE_N(&o->allocator, w.sel, (size_t)(nb ? nb : 1) * 36);
+	PVS__FREE_N(&o->allocator, w.cand, s->object_count ? s->object_count : 1);
 	pvs_raster_destroy(w.r);
 	return res;
 }
@@ -21411,28 +21413,28 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
 	uint32_t k;
 	if (!b) return;
 	a = b->env.allocator;
-	pvs__free_array(&a, b->cells, b->cell_count, sizeof(pvs_box));
-	pvs__free_array(&a, b->pvs, (size_t)b->cell_count * b->words, sizeof(pvs_word));
+	PVS__FREE_N(&a, b->cells, b->cell_count);
+	PVS__FREE_N(&a, b->pvs, (size_t)b->cell_count * b->words);
 	if (b->rec)
-		for (k = 0; k < b->cell_count; ++k) pvs__free_array(&a, b->rec[k], b->rec_size[k], 1);
-	pvs__free_array(&a, b->rec, b->cell_count, sizeof(uint8_t *));
-	pvs__free_array(&a, b->rec_size, b->cell_count, sizeof(uint32_t));
-	pvs__free_array(&a, b->row, b->words, sizeof(pvs_word));
-	pvs__free_array(&a, b->done, b->cell_count, 1);
-	pvs__free_array(&a, b->restored, b->cell_count, 1);
-	pvs__free_array(&a, b->stats, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
-	pvs__free_array(&a, b->cell_flags, b->cell_count, 1);
+		for (k = 0; k < b->cell_count; ++k) PVS__FREE_N(&a, b->rec[k], b->rec_size[k]);
+	PVS__FREE_N(&a, b->rec, b->cell_count);
+	PVS__FREE_N(&a, b->rec_size, b->cell_count);
+	PVS__FREE_N(&a, b->row, b->words);
+	PVS__FREE_N(&a, b->done, b->cell_count);
+	PVS__FREE_N(&a, b->restored, b->cell_count);
+	PVS__FREE_N(&a, b->stats, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT);
+	PVS__FREE_N(&a, b->cell_flags, b->cell_count);
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k)
 		if (b->state[pvs__bake_methods[k]->method])
 			pvs__bake_methods[k]->destroy(&b->env, b->state[pvs__bake_methods[k]->method]);
-	pvs__free_array(&a, b->object_triangles, (size_t)b->object_count + 1, sizeof(uint32_t));
+	PVS__FREE_N(&a, b->object_triangles, (size_t)b->object_count + 1);
 	if (b->leaves) {
 		uint32_t i;
 		for (i = 0; i < b->cell_count; ++i) {
-			pvs__free_array(&a, b->leaves[i].boxes, b->leaves[i].capacity, sizeof(pvs_box));
-			pvs__free_array(&a, b->leaves[i].pvs, b->leaves[i].capacity * b->words, sizeof(pvs_word));
+			PVS__FREE_N(&a, b->leaves[i].boxes, b->leaves[i].capacity);
+			PVS__FREE_N(&a, b->leaves[i].pvs, b->leaves[i].capacity * b->words);
 		}
-		pvs__free_array(&a, b->leaves, b->cell_count, sizeof(pvs__bakeleaves));
+		PVS__FREE_N(&a, b->leaves, b->cell_count);
 	}
 	pvs__free(&a, b, sizeof(*b), 16);
 }
@@ -21524,27 +21526,27 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 	if (!pvs__mul(b->words, b->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &bytes))
 		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory",
 						 desc->cell_count, b->object_count);
-	b->cells = (pvs_box *)pvs__alloc_array(a, b->cell_count, sizeof(pvs_box));
+	b->cells = PVS__ALLOC_N(a, pvs_box, b->cell_count);
 	if ((desc->flags & PVS_BAKE_COMPACT) || bytes > PVS_BAKE_COMPACT_BYTES) {
 		b->rec = (uint8_t **)pvs__alloc_array(a, b->cell_count, sizeof(uint8_t *));
-		b->rec_size = (uint32_t *)pvs__alloc_array(a, b->cell_count, sizeof(uint32_t));
-		b->row = (pvs_word *)pvs__alloc_array(a, b->words, sizeof(pvs_word));
+		b->rec_size = PVS__ALLOC_N(a, uint32_t, b->cell_count);
+		b->row = PVS__ALLOC_N(a, pvs_word, b->words);
 		if (!b->rec || !b->rec_size || !b->row) return PVS__OOM(err, "compact bake for %u cells", desc->cell_count);
 		memset(b->rec, 0, b->cell_count * sizeof(uint8_t *));
 		memset(b->rec_size, 0, b->cell_count * sizeof(uint32_t));
 		total = 0;
-	} else if (!(b->pvs = (pvs_word *)pvs__alloc_array(a, total, sizeof(pvs_word))))
+	} else if (!(b->pvs = PVS__ALLOC_N(a, pvs_word, total)))
 		return PVS__OOM(err, "bake table for %u cells", desc->cell_count);
-	b->done = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
-	b->restored = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
-	b->stats = (uint32_t *)pvs__alloc_array(a, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
-	b->cell_flags = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
+	b->done = PVS__ALLOC_N(a, unsigned char, b->cell_count);
+	b->restored = PVS__ALLOC_N(a, unsigned char, b->cell_count);
+	b->stats = PVS__ALLOC_N(a, uint32_t, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT);
+	b->cell_flags = PVS__ALLOC_N(a, unsigned char, b->cell_count);
 	if (!b->cells || !b->done || !b->restored || !b->stats || !b->cell_flags)
 		return PVS__OOM(err, "bake arrays for %u cells", desc->cell_count);
 	for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
 	if (b->adaptive_budget) {
-		b->object_triangles = (uint32_t *)pvs__alloc_array(a, (size_t)b->object_count + 1, sizeof(uint32_t));
-		b->leaves = (pvs__bakeleaves *)pvs__alloc_array(a, b->cell_count, sizeof(pvs__bakeleaves));
+		b->object_triangles = PVS__ALLOC_N(a, uint32_t, (size_t)b->object_count + 1);
+		b->leaves = PVS__ALLOC_N(a, pvs__bakeleaves, b->cell_count);
 		if (!b->object_triangles || !b->leaves) return PVS__OOM(err, "adaptive cells");
 		memset(b->object_triangles, 0, ((size_t)b->object_count + 1) * sizeof(uint32_t));
 		memset(b->leaves, 0, b->cell_count * sizeof(pvs__bakeleaves));
@@ -21710,7 +21712,7 @@ PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc
 	pvs_bake_desc sd = *desc;
 	uint32_t s, k, i, kept = 0, S = PVS_AUTO_SAMPLE_CELLS;
 	size_t total = S * PVS__SAMPLE_SLOTS * b->words;
-	pvs_word *sb = (pvs_word *)pvs__alloc_array(&b->env.allocator, total, sizeof(pvs_word));
+	pvs_word *sb = PVS__ALLOC_N(&b->env.allocator, pvs_word, total);
 	pvs_result r;
 	if (!sb) return PVS__OOM(err, "auto: sample cells");
 	memset(sb, 0, total * sizeof(pvs_word));
@@ -21723,7 +21725,7 @@ PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc
 	for (k = 0; r == PVS_OK && k < b->run_count; ++k)
 		if (b->run[k]->traits & PVS__METHOD_WHOLE_CELLS) r = PVS_ERROR_UNSUPPORTED; /* not expected under AUTO */
 	if (r == PVS_OK) pvs__bake_auto_sample(b, desc, S, sb);
-	pvs__free_array(&b->env.allocator, sb, total, sizeof(pvs_word));
+	PVS__FREE_N(&b->env.allocator, sb, total);
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) { /* sample's preparations */
 		const pvs__bake_method *m = pvs__bake_methods[k];
 		if (b->state[m->method]) m->destroy(&b->env, b->state[m->method]);
@@ -21871,19 +21873,19 @@ PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell
 		depth + 1 >= 48 || !(mid > box->min[axis] && mid < box->max[axis])) {
 		if (L->count == L->capacity) {
 			size_t cap = L->capacity ? 2 * L->capacity : 8;
-			pvs_box *nb = (pvs_box *)pvs__alloc_array(&b->env.allocator, cap, sizeof(pvs_box));
-			pvs_word *np = (pvs_word *)pvs__alloc_array(&b->env.allocator, cap * b->words, sizeof(pvs_word));
+			pvs_box *nb = PVS__ALLOC_N(&b->env.allocator, pvs_box, cap);
+			pvs_word *np = PVS__ALLOC_N(&b->env.allocator, pvs_word, cap * b->words);
 			if (!nb || !np || cap > 0x3fffffffu) {
-				pvs__free_array(&b->env.allocator, nb, cap, sizeof(pvs_box));
-				pvs__free_array(&b->env.allocator, np, cap * b->words, sizeof(pvs_word));
+				PVS__FREE_N(&b->env.allocator, nb, cap);
+				PVS__FREE_N(&b->env.allocator, np, cap * b->words);
 				return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive leaves of cell %u", cell);
 			}
 			if (L->count) {
 				memcpy(nb, L->boxes, L->count * sizeof(pvs_box));
 				memcpy(np, L->pvs, L->count * b->words * sizeof(pvs_word));
 			}
-			pvs__free_array(&b->env.allocator, L->boxes, L->capacity, sizeof(pvs_box));
-			pvs__free_array(&b->env.allocator, L->pvs, L->capacity * b->words, sizeof(pvs_word));
+			PVS__FREE_N(&b->env.allocator, L->boxes, L->capacity);
+			PVS__FREE_N(&b->env.allocator, L->pvs, L->capacity * b->words);
 			L->boxes = nb;
 			L->pvs = np;
 			L->capacity = cap;
@@ -21909,7 +21911,7 @@ PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell
 	const pvs_box *c = b->cells + task;
 	float min_size = b->adaptive_min_size, longest = 0.0f;
 	size_t nw = (49 + (size_t)b->run_count) * b->words;
-	pvs_word *work = (pvs_word *)pvs__alloc_array(&b->env.allocator, nw, sizeof(pvs_word));
+	pvs_word *work = PVS__ALLOC_N(&b->env.allocator, pvs_word, nw);
 	pvs_result r;
 	int k;
 	if (!work) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive cells of cell %u", cell);
@@ -21918,7 +21920,7 @@ PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell
 	b->leaves[task].count = 0;
 	memcpy(work, bits, b->words * sizeof(pvs_word));
 	r = pvs__bake_split(b, task, cell, c, min_size, work, work + 48 * b->words, 0, err);
-	pvs__free_array(&b->env.allocator, work, nw, sizeof(pvs_word));
+	PVS__FREE_N(&b->env.allocator, work, nw);
 	return r;
 }
 
@@ -21941,7 +21943,7 @@ PVS__STATIC pvs_result pvs__bake_task(pvs_bake *b, uint32_t task, uint32_t cell,
 		pvs__bake_distance(b, b->cells + task, bits);
 	} else {
 		/* AUTO: sole[k], what method k alone leaves out of intersection */
-		each = (pvs_word *)pvs__alloc_array(&b->env.allocator, (size_t)(n + 1) * b->words, sizeof(pvs_word));
+		each = PVS__ALLOC_N(&b->env.allocator, pvs_word, (size_t)(n + 1) * b->words);
 		if (!each) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: auto scratch", cell);
 		r = pvs__bake_box(b, task, cell, b->cells + task, NULL, bits, each, err);
 		if (r == PVS_OK) {
@@ -21957,7 +21959,7 @@ PVS__STATIC pvs_result pvs__bake_task(pvs_bake *b, uint32_t task, uint32_t cell,
 				sole[k] = c;
 			}
 		}
-		pvs__free_array(&b->env.allocator, each, (size_t)(n + 1) * b->words, sizeof(pvs_word));
+		PVS__FREE_N(&b->env.allocator, each, (size_t)(n + 1) * b->words);
 		if (r != PVS_OK) return r;
 	}
 	if (pvs_bitset_count(bits, b->object_count) >= b->drawable) b->cell_flags[task] |= PVS__BAKE_ALL_VISIBLE;
@@ -21971,12 +21973,11 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
 	if (!b || task >= b->cell_count)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
 	cell = pvs_bake_task_cell(b, task);
-	bits = b->pvs ? b->pvs + (size_t)task * b->words
-				  : (pvs_word *)pvs__alloc_array(&b->env.allocator, b->words, sizeof(pvs_word));
+	bits = b->pvs ? b->pvs + (size_t)task * b->words : PVS__ALLOC_N(&b->env.allocator, pvs_word, b->words);
 	if (!bits) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: its PVS", cell);
 	r = pvs__bake_task(b, task, cell, bits, err);
 	if (r == PVS_OK && !b->pvs) r = pvs__bake_keep(b, task, bits, err);
-	if (!b->pvs) pvs__free_array(&b->env.allocator, bits, b->words, sizeof(pvs_word));
+	if (!b->pvs) PVS__FREE_N(&b->env.allocator, bits, b->words);
 	if (r != PVS_OK) return r;
 	b->done[task] = 1;
 	pvs__ok(err);
@@ -22116,8 +22117,8 @@ PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cell
 	*count = n;
 	if (n >= 0x3fffffffu) return PVS_ERROR_COUNT_OVERFLOW;
 	if (!pvs__mul(n, b->words * sizeof(pvs_word), &bytes)) return PVS_ERROR_COUNT_OVERFLOW;
-	*cells = (pvs_box *)pvs__alloc_array(&b->env.allocator, n, sizeof(pvs_box));
-	*pvs = (pvs_word *)pvs__alloc_array(&b->env.allocator, n * b->words, sizeof(pvs_word));
+	*cells = PVS__ALLOC_N(&b->env.allocator, pvs_box, n);
+	*pvs = PVS__ALLOC_N(&b->env.allocator, pvs_word, n * b->words);
 	if (!*cells || !*pvs) return PVS_ERROR_OUT_OF_MEMORY;
 	for (i = 0; i < b->cell_count; ++i) {
 		const pvs__bakeleaves *L = b->leaves + i;
@@ -22146,8 +22147,8 @@ PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t cap
 		r = pvs_file_encode(&fd, out, capacity, out_size, err);
 	} else
 		r = pvs__fail(err, r, -1, 0, "%llu adaptive cells", (unsigned long long)n);
-	pvs__free_array(&b->env.allocator, cells, n, sizeof(pvs_box));
-	pvs__free_array(&b->env.allocator, pvs, n * b->words, sizeof(pvs_word));
+	PVS__FREE_N(&b->env.allocator, cells, n);
+	PVS__FREE_N(&b->env.allocator, pvs, n * b->words);
 	return r;
 }
 
