@@ -1,4 +1,4 @@
-/* pvs.h - v0.10.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.11.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -136,13 +136,13 @@
 
    ALGORITHMS: README.md, "Algorithms", lists the papers; each is cited where implemented.
 
-   FILE FORMAT (version 2; the byte layout, rule by rule with each rule's error code: README.md, "The file")
+   FILE FORMAT (version 3; the byte layout, rule by rule with each rule's error code: README.md, "The file")
    ===========
    The delta-PVS of Durand et al. 2000 (§6.2): key cells store their PVS whole, others what differs from a base cell,
    chains bounded by K. Little-endian: a 32-byte header, a table of CRC-checked sections: META, CELL (boxes), TREE
    (look-up), RECS (records: each bit arithmetic-coded in a context of base's bits and its neighbours), MODL (the
    contexts' probabilities, an object order putting objects seen together side by side); optional SHRD, VOCC, SCNE,
-   NAME. Readers skip unknown tags; pvs_file_open checks every rule in linear time. Version 1 files: BAD_VERSION,
+   NAME. Readers skip unknown tags; pvs_file_open checks every rule in linear time. Version 1, 2 files: BAD_VERSION,
    re-bake.
 
    HISTORY: at the end.
@@ -155,10 +155,10 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 10
+#define PVS_VERSION_MINOR 11
 #define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
-#define PVS_FORMAT_VERSION 2
+#define PVS_FORMAT_VERSION 3
 
 #ifndef PVS_API
 #ifdef PVS_STATIC
@@ -1257,9 +1257,12 @@ typedef struct pvs_file {
 		const uint8_t *values[3];	/* CELL: per-axis coordinate tables */
 		const uint8_t *indices; /* CELL: packed per-cell indices */
 		uint32_t value_count[3], index_bits[6], cell_bits; /* widths: min indices, then extents */
+		uint32_t value_bits[3]; /* table k: (value_base + g) 2^value_exp, g of value_bits bits; 255: f32 */
+		int32_t value_base[3], value_exp[3];
+		float value_step[3]; /* 2^value_exp where float math is exact, else 0 */
 		size_t index_bytes;
-		const uint8_t *tree; /* TREE: nodes, leaf offsets, items */
-		uint32_t tree_depth;
+		const uint8_t *tree; /* TREE: splits, axes, leaf offsets, items */
+		uint32_t tree_depth, tree_offset_bits;
 		const uint8_t *records; /* RECS */
 		uint32_t records_size, block_count;
 		const uint8_t *order; /* MODL: object order, order_bits each; 0 bits: identity */
@@ -22180,7 +22183,7 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__SECTION_ENTRY 16u
 #define PVS__MAX_SECTIONS 64u
 #define PVS__META_SIZE 32u
-#define PVS__CELL_HEAD 20u
+#define PVS__CELL_HEAD 44u
 #define PVS__TREE_HEAD 8u
 #define PVS__TREE_MAX_DEPTH 24u /* deepest look-up tree readers accept */
 #define PVS__SHRD_SIZE 16u
@@ -22275,9 +22278,15 @@ PVS__STATIC uint32_t pvs__bits_for(uint32_t max_value) {
 	return w;
 }
 
-PVS__STATIC uint64_t pvs__load64(const uint8_t *s) { /* little-endian; one load once compiled */
+PVS__STATIC uint64_t pvs__load64(const uint8_t *s) { /* little-endian; one load (memcpy on little-endian hosts) */
+#if (defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__) || defined(_M_X64) || defined(_M_ARM64)
+	uint64_t v;
+	memcpy(&v, s, 8);
+	return v;
+#else
 	return (uint64_t)s[0] | (uint64_t)s[1] << 8 | (uint64_t)s[2] << 16 | (uint64_t)s[3] << 24 | (uint64_t)s[4] << 32 |
 		   (uint64_t)s[5] << 40 | (uint64_t)s[6] << 48 | (uint64_t)s[7] << 56;
+#endif
 }
 
 
@@ -22598,10 +22607,12 @@ typedef struct pvs__encoder {
 	pvs_box *boxes; /* cells as stored (-0 as +0) */
 	float *values[3];
 	uint32_t value_count[3], index_bits[6]; /* widths: min indices, then extents */
+	int32_t grid_base[3], grid_exp[3];
+	uint32_t grid_bits[3]; /* CELL table k: (grid_base + g) 2^grid_exp, g of grid_bits bits; 255: f32 */
 	pvs_kdtree *tree; /* over cells: base candidates */
 	uint8_t *tree_stream; /* TREE nodes */
 	size_t tree_bytes;
-	uint32_t tree_depth;
+	uint32_t tree_depth, tree_offset_bits;
 	void *sweep;
 	size_t sweep_size;
 	pvs__link *edges;
@@ -22907,11 +22918,10 @@ PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
 	size_t pos = 4 * ((size_t)blocks + 1);
 	for (i = 0; i < e->cells; ++i) {
 		uint32_t j = e->base[i];
-		uint8_t head[10];
-		size_t h = pvs__put_varint(head, e->depth[i]), inner;
+		uint8_t head[5];
+		size_t h = pvs__put_varint(head, j == PVS_NO_CELL ? 0u : pvs__zigzag((int64_t)i - (int64_t)j)), inner;
 		pvs__ac a;
 		if (out && i % PVS__BLOCK == 0) pvs__put32(out + 4 * (size_t)(i / PVS__BLOCK), (uint32_t)pos);
-		if (j != PVS_NO_CELL) h += pvs__put_varint(head + h, pvs__zigzag((int64_t)i - (int64_t)j));
 		pvs__ac_start(&a);
 		a.out = e->buf;
 		a.prob = e->prob;
@@ -22987,9 +22997,34 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 }
 
 /* CELL: cells (-0 as +0), per axis sorted distinct coordinates (e->values), index widths; *cell_bytes: its size. */
+/* Coarsest grid 2^e holding ascending table v (e: lowest set bit of any value's significand): base = v[0] / 2^e and
+   steps g below 2^16 (returns 16), else 255 (f32 table; also for tables under 32 values, read fastest so). Exact:
+   each v is (base + g) 2^e. */
+PVS__STATIC uint32_t pvs__cell_grid(const float *v, uint32_t n, int32_t *base, int32_t *e) {
+	uint32_t i, u, m;
+	int32_t lo = 1000, x;
+	double b, top;
+	for (i = 0; i < n; ++i) {
+		memcpy(&u, v + i, 4);
+		m = u & 0x7fffffu;
+		x = (int32_t)((u >> 23) & 255u);
+		if (!(u << 1)) continue; /* zero */
+		if (x) m |= 0x800000u;
+		for (x = (x ? x : 1) - 150; !(m & 1u); m >>= 1) ++x;
+		lo = x < lo ? x : lo;
+	}
+	*e = lo = lo == 1000 ? 0 : lo;
+	b = ldexp((double)v[0], -lo);
+	top = ldexp((double)v[n - 1], -lo) - b;
+	*base = 0;
+	if (!(b >= -2147483648.0 && b < 2147483648.0 && top < 2147483648.0)) return *e = 0, 255u;
+	*base = (int32_t)b;
+	return top < 65536.0 && n >= 32 ? 16u : (*base = *e = 0, 255u); /* 16-bit steps where they save 64+ bytes */
+}
+
 PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_bytes, pvs_error *err) {
 	const pvs_file_desc *d = e->d;
-	size_t index_bits_total;
+	size_t index_bits_total, table_bytes = 0;
 	uint32_t i, k;
 	e->boxes = (pvs_box *)pvs__alloc_array(&e->a, e->cells, sizeof(pvs_box));
 	if (!e->boxes) return PVS__OOM(err, "cell boxes");
@@ -23018,12 +23053,13 @@ PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_by
 			if (ext > widest) widest = ext;
 		}
 		e->index_bits[3 + k] = pvs__bits_for(widest);
+		e->grid_bits[k] = pvs__cell_grid(v, n, e->grid_base + k, e->grid_exp + k);
+		table_bytes += (e->grid_bits[k] == 255u ? 4 : 2) * (size_t)n;
 	}
 	index_bits_total = (size_t)(e->index_bits[0] + e->index_bits[1] + e->index_bits[2] + e->index_bits[3] +
 								e->index_bits[4] + e->index_bits[5]) *
 		e->cells;
-	*cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e->value_count[0] + e->value_count[1] + e->value_count[2]) +
-		(index_bits_total + 7) / 8;
+	*cell_bytes = PVS__CELL_HEAD + table_bytes + (index_bits_total + 7) / 8;
 	return PVS_OK;
 }
 
@@ -23092,19 +23128,22 @@ PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err)
 	}
 	if (r == PVS_OK) {
 		uint8_t *t;
+		uint32_t ow = e->tree_offset_bits = pvs__bits_for((uint32_t)tb.item_bytes);
+		size_t ob = (((size_t)leaves + 1) * ow + 7) / 8;
 		tb.leaf_start[leaves] = (uint32_t)tb.item_bytes;
-		e->tree_bytes = 5 * (size_t)(leaves - 1) + 4 * ((size_t)leaves + 1) + tb.item_bytes;
+		e->tree_bytes = 5 * (size_t)(leaves - 1) + ob + tb.item_bytes;
 		e->tree_depth = tb.depth;
 		e->tree_stream = t = (uint8_t *)pvs__alloc_array(&e->a, e->tree_bytes, 1);
 		if (!t) {
 			r = PVS_ERROR_OUT_OF_MEMORY;
 		} else {
-			/* splits, leaf offsets, axes; node passing all left: axis 0 at FLT_MAX */
+			/* splits, axes, leaf offsets; node passing all left: axis 0 at FLT_MAX */
+			memset(t, 0, e->tree_bytes);
 			for (i = 0; i + 1 < leaves; ++i, t += 4)
 				pvs__putf32(t, (tb.nodes[i] & 3u) == 3u ? FLT_MAX : tb.values[tb.nodes[i] & 3u][tb.nodes[i] >> 2]);
-			for (i = 0; i <= leaves; ++i, t += 4) pvs__put32(t, tb.leaf_start[i]);
 			for (i = 0; i + 1 < leaves; ++i) *t++ = (uint8_t)((tb.nodes[i] & 3u) == 3u ? 0u : tb.nodes[i] & 3u);
-			if (tb.item_bytes) memcpy(t, tb.items, tb.item_bytes);
+			for (i = 0; i <= leaves; ++i) pvs__put_bits(t, (uint64_t)i * ow, tb.leaf_start[i], ow);
+			if (tb.item_bytes) memcpy(t + ob, tb.items, tb.item_bytes);
 		}
 	}
 	pvs__free_array(&e->a, ids, e->cells, sizeof(uint32_t));
@@ -23124,8 +23163,17 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 	for (k = 0; k < 3; ++k) pvs__put32(c + 4 * k, e->value_count[k]);
 	for (k = 0; k < 6; ++k) c[12 + k] = (uint8_t)e->index_bits[k];
 	v = c + PVS__CELL_HEAD;
-	for (k = 0; k < 3; ++k)
-		for (i = 0; i < e->value_count[k]; ++i, v += 4) pvs__putf32(v, e->values[k][i]);
+	for (k = 0; k < 3; ++k) {
+		uint32_t w = e->grid_bits[k], n = e->value_count[k];
+		pvs__put32(c + 20 + 8 * k, (uint32_t)e->grid_base[k]);
+		pvs__put32(c + 24 + 8 * k, w | ((uint32_t)e->grid_exp[k] & 0xffffu) << 8);
+		for (i = 0; i < n; ++i) {
+			uint32_t g = w == 255u ? 0u : (uint32_t)(ldexp(e->values[k][i], -e->grid_exp[k]) - e->grid_base[k]);
+			if (w == 255u) pvs__putf32(v + 4 * (size_t)i, e->values[k][i]);
+			else v[2 * (size_t)i] = (uint8_t)g, v[2 * (size_t)i + 1] = (uint8_t)(g >> 8);
+		}
+		v += (w == 255u ? 4 : 2) * (size_t)n;
+	}
 	bits = v;
 	for (i = 0; i < e->cells; ++i) {
 		uint32_t lo[3];
@@ -23284,6 +23332,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	}
 	pvs__encoder_write_cells(&e, o + at[1]);
 	pvs__put32(o + at[2], e.tree_depth);
+	pvs__put32(o + at[2] + 4, e.tree_offset_bits);
 	memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
 	(void)pvs__encoder_records(&e, o + at[3]);
 	{
@@ -23326,7 +23375,7 @@ done:
 /* Located record (opened files only). */
 typedef struct pvs__rec {
 	const uint8_t *start, *body, *end; /* body: coded bits */
-	uint32_t depth, base;
+	uint32_t base;
 } pvs__rec;
 
 PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
@@ -23340,24 +23389,36 @@ PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
 	r->start = p;
 	p = pvs__skip_varint(p, &len);
 	r->end = p + len;
-	p = pvs__skip_varint(p, &r->depth);
-	r->base = PVS_NO_CELL;
-	if (r->depth) {
-		p = pvs__skip_varint(p, &zz);
-		r->base = (uint32_t)((int64_t)cell - pvs__unzigzag(zz));
-	}
-	r->body = p;
+	r->body = pvs__skip_varint(p, &zz);
+	r->base = zz ? (uint32_t)((int64_t)cell - pvs__unzigzag(zz)) : PVS_NO_CELL;
+}
+
+/* w bits at bit pos of s (one 64-bit read when s[pos / 8 + 7] is before end). */
+PVS__STATIC uint32_t pvs__bits_at(const uint8_t *s, uint64_t pos, uint32_t w, const uint8_t *end) {
+	if (w && (size_t)(end - s) >= (size_t)(pos >> 3) + 8)
+		return (uint32_t)((pvs__load64(s + (size_t)(pos >> 3)) >> (pos & 7u)) & (((uint64_t)1 << w) - 1u));
+	return pvs__get_bits(s, pos, w);
+}
+
+/* Coordinate i of CELL's table k: f32, or (base + g) 2^e, g 16 bits (in float where that is exact). */
+PVS__STATIC float pvs__cell_value(const pvs_file *f, uint32_t k, uint32_t i) {
+	const uint8_t *t = f->private_.values[k] + 2 * (size_t)i;
+	int32_t m;
+	if (f->private_.value_bits[k] == 255u) return pvs__getf32(t + 2 * (size_t)i);
+	m = f->private_.value_base[k] + (int32_t)(t[0] | (uint32_t)t[1] << 8);
+	if (f->private_.value_step[k] != 0.0f) return (float)m * f->private_.value_step[k];
+	return (float)((double)m * ldexp(1.0, f->private_.value_exp[k]));
 }
 
 PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const uint8_t *c, uint32_t size,
 									   pvs_error *err) {
-	uint64_t off = (uint64_t)(c - base), need, nbits, pos = 0;
-	uint32_t k, i, total = 0;
-	const uint8_t *v;
+	uint64_t off = (uint64_t)(c - base), need = PVS__CELL_HEAD, nbits, pos = 0;
+	uint32_t k, i;
+	const uint8_t *v = c + PVS__CELL_HEAD;
 	if (size < PVS__CELL_HEAD)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, fewer than its 20-byte head", size);
+		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, fewer than its 44-byte head", size);
 	for (k = 0; k < 3; ++k) {
-		uint32_t n = pvs__get32(c + 4 * k);
+		uint32_t n = pvs__get32(c + 4 * k), g = pvs__get32(c + 24 + 8 * k), w = g & 255u;
 		if (n == 0 || n > 2 * (uint64_t)f->cell_count)
 			return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 4 * k,
 							 "CELL: %u coordinates on axis %u for %u cells", n, k, f->cell_count);
@@ -23368,31 +23429,41 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 		if (c[15 + k] > pvs__bits_for(n - 1))
 			return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 15 + k,
 							 "CELL: extent width %u on axis %u exceeds %u", c[15 + k], k, pvs__bits_for(n - 1));
+		if ((w != 16u && w != 255u) || (g >> 24) || (w == 255u && (g >> 8 || pvs__get32(c + 20 + 8 * k))))
+			return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 24 + 8 * k, "CELL: table %u has width %u", k, w);
 		f->private_.value_count[k] = n;
 		f->private_.index_bits[k] = c[12 + k];
 		f->private_.index_bits[3 + k] = c[15 + k];
-		total += n;
+		f->private_.value_bits[k] = w;
+		f->private_.value_base[k] = (int32_t)pvs__get32(c + 20 + 8 * k);
+		f->private_.value_exp[k] = (int16_t)(uint16_t)(g >> 8);
+		f->private_.value_step[k] = f->private_.value_exp[k] >= -100 && f->private_.value_exp[k] <= 100 &&
+				f->private_.value_base[k] >= -16777216 && f->private_.value_base[k] <= 16777216 - 65536
+			? (float)ldexp(1.0, f->private_.value_exp[k]) : 0.0f; /* |base + g| < 2^24, 2^e normal */
+		f->private_.values[k] = c + need;
+		need += (w == 255u ? 4 : 2) * (uint64_t)n;
 	}
 	if (c[18] || c[19]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 18, "CELL: reserved bytes are not zero");
 	f->private_.cell_bits = f->private_.index_bits[0] + f->private_.index_bits[1] + f->private_.index_bits[2] +
 		f->private_.index_bits[3] + f->private_.index_bits[4] + f->private_.index_bits[5];
 	nbits = (uint64_t)f->private_.cell_bits * f->cell_count;
-	need = PVS__CELL_HEAD + 4 * (uint64_t)total + (nbits + 7) / 8;
-	if (need != size)
+	if (need + (nbits + 7) / 8 != size)
 		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, its tables and indices need %llu",
-						 size, (unsigned long long)need);
-	v = c + PVS__CELL_HEAD;
+						 size, (unsigned long long)(need + (nbits + 7) / 8));
+	v = c + need;
+	f->private_.indices = v;
+	f->private_.index_bytes = (size_t)((nbits + 7) / 8);
 	for (k = 0; k < 3; ++k) {
-		f->private_.values[k] = v;
-		for (i = 0; i < f->private_.value_count[k]; ++i, v += 4) {
-			float x = pvs__getf32(v);
-			if (!pvs__finite(x) || pvs__get32(v) == 0x80000000u || (i && !(pvs__getf32(v - 4) < x)))
-				return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, (uint64_t)(v - base),
+		uint32_t n = f->private_.value_count[k];
+		for (i = 0; i < n; ++i) {
+			float x = pvs__cell_value(f, k, i);
+			uint32_t u;
+			memcpy(&u, &x, 4);
+			if (!pvs__finite(x) || u == 0x80000000u || (i && !(pvs__cell_value(f, k, i - 1) < x)))
+				return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, (uint64_t)(f->private_.values[k] - base),
 								 "CELL: coordinate %u on axis %u is not finite, is -0 or does not ascend", i, k);
 		}
 	}
-	f->private_.indices = v;
-	f->private_.index_bytes = (size_t)((nbits + 7) / 8);
 	for (i = 0; i < f->cell_count; ++i) {
 		uint32_t idx[6];
 		for (k = 0; k < 6; ++k) {
@@ -23414,39 +23485,43 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size,
 									  pvs_error *err) {
 	uint64_t off = (uint64_t)(t - base), need;
-	uint32_t depth, inner, leaves, i;
+	uint32_t depth, inner, leaves, i, ow, items_size;
 	const uint8_t *nodes, *starts, *items;
 	if (size < PVS__TREE_HEAD)
 		return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE has %u bytes, fewer than its 8-byte head", size);
 	depth = pvs__get32(t);
-	if (depth > PVS__TREE_MAX_DEPTH)
-		return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE depth %u > %u", depth, PVS__TREE_MAX_DEPTH);
-	if (pvs__get32(t + 4)) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off + 4, "TREE reserved field is not zero");
+	ow = pvs__get32(t + 4);
+	if (depth > PVS__TREE_MAX_DEPTH || ow < 1 || ow > 32)
+		return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE depth %u > %u or offset width %u not 1..32", depth,
+						 PVS__TREE_MAX_DEPTH, ow);
 	leaves = 1u << depth;
 	inner = leaves - 1u;
-	need = PVS__TREE_HEAD + 5 * (uint64_t)inner + 4 * ((uint64_t)leaves + 1);
+	need = PVS__TREE_HEAD + 5 * (uint64_t)inner + ((uint64_t)(leaves + 1) * ow + 7) / 8;
 	if (need > size)
 		return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE has %u bytes, depth %u needs %llu before its items",
 						 size, depth, (unsigned long long)need);
 	nodes = t + PVS__TREE_HEAD;
-	starts = nodes + 4 * (size_t)inner;
-	items = starts + 4 * ((size_t)leaves + 1) + inner;
+	starts = nodes + 5 * (size_t)inner;
+	items = t + need;
+	items_size = size - (uint32_t)need;
 	for (i = 0; i < inner; ++i) {
-		uint8_t axis = starts[4 * ((size_t)leaves + 1) + i];
+		uint8_t axis = nodes[4 * (size_t)inner + i];
 		if (axis > 2u || !pvs__finite(pvs__getf32(nodes + 4 * (size_t)i)))
 			return pvs__fail(err, PVS_ERROR_BAD_TREE, i, off + PVS__TREE_HEAD + 4 * (uint64_t)i,
 							 "TREE node %u: axis %u or split not finite", i, axis);
 	}
-	if (pvs__get32(starts) != 0 || pvs__get32(starts + 4 * (size_t)leaves) != size - need)
+	if (pvs__get_bits(starts, 0, ow) != 0 || pvs__get_bits(starts, (uint64_t)leaves * ow, ow) != items_size ||
+		(((uint64_t)(leaves + 1) * ow & 7u) && starts[(uint64_t)(leaves + 1) * ow / 8] >> ((leaves + 1) * ow & 7u)))
 		return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(starts - base),
-						 "TREE leaf offsets do not span its items");
+						 "TREE leaf offsets do not span its items (or unused bits are set)");
 	for (i = 0; i < leaves; ++i) {
-		uint32_t lo = pvs__get32(starts + 4 * (size_t)i), hi = pvs__get32(starts + 4 * (size_t)i + 4);
+		uint32_t lo = pvs__get_bits(starts, (uint64_t)i * ow, ow);
+		uint32_t hi = pvs__get_bits(starts, (uint64_t)(i + 1) * ow, ow);
 		const uint8_t *p = items + lo, *end = items + hi;
 		uint64_t id = 0;
 		int first = 1;
-		if (hi < lo || hi > size - need)
-			return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(starts - base) + 4 * (uint64_t)i,
+		if (hi < lo || hi > items_size)
+			return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(starts - base) + (uint64_t)i * ow / 8,
 							 "TREE leaf %u offsets do not ascend", i);
 		while (p < end) {
 			uint32_t g;
@@ -23463,11 +23538,12 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 	}
 	f->private_.tree = nodes;
 	f->private_.tree_depth = depth;
+	f->private_.tree_offset_bits = ow;
 	return PVS_OK;
 }
 
-/* RECS: each record's structure, then chains: depth falls by one per base, so chains reach key within max_chain steps,
-   cannot cycle. Linear in section. */
+/* RECS: each record's structure, then chains: from every cell at most max_chain bases reach a key, so none cycles and
+   decoding applies at most max_chain deltas. Linear in section (n K record look-ups). */
 PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size,
 										 pvs_error *err) {
 	uint64_t off = (uint64_t)(rs - base);
@@ -23485,35 +23561,24 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 		if (hi < lo || hi > size)
 			return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, off + 4 * (uint64_t)b, "block %u offsets do not ascend", b);
 		for (cell = b * PVS__BLOCK; cell < f->cell_count && cell < (b + 1) * PVS__BLOCK; ++cell) {
-			uint32_t len, zz, depth;
+			uint32_t len, zz;
 			const uint8_t *rend;
+			int64_t bc;
 			size_t used = pvs__get_varint(p, end, &len);
 			if (!used || len > (size_t)(end - p) - used)
 				return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad length",
 								 cell);
 			p += used;
 			rend = p + len;
-			used = pvs__get_varint(p, rend, &depth);
+			used = pvs__get_varint(p, rend, &zz);
 			if (!used)
-				return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad head",
+				return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad base",
 								 cell);
-			p += used;
-			if (depth > f->max_chain)
-				return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base), "cell %u: chain depth %u > %u",
-								 cell, depth, f->max_chain);
-			if (depth) {
-				int64_t bc;
-				used = pvs__get_varint(p, rend, &zz);
-				if (!used)
-					return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base),
-									 "record of cell %u: bad base", cell);
-				bc = (int64_t)cell - pvs__unzigzag(zz);
-				if (bc < 0 || bc >= (int64_t)f->cell_count || bc == (int64_t)cell)
-					return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base),
-									 "cell %u: base %lld is itself or no cell", cell, (long long)bc);
-			} else {
-				++keys;
-			}
+			bc = (int64_t)cell - pvs__unzigzag(zz);
+			keys += !zz;
+			if (zz && (bc < 0 || bc >= (int64_t)f->cell_count))
+				return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base), "cell %u: base %lld is no cell",
+								 cell, (long long)bc);
 			p = rend;
 		}
 		if (p != end)
@@ -23523,14 +23588,13 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 	if (keys != f->key_count)
 		return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 0, "META says %u key cells, the records have %u", f->key_count,
 						 keys);
-	for (i = 0; i < f->cell_count; ++i) {
-		pvs__rec r, rb;
-		pvs__record_at(f, i, &r);
-		if (!r.depth) continue;
-		pvs__record_at(f, r.base, &rb);
-		if (rb.depth + 1 != r.depth)
+	for (i = 0; i < f->cell_count; ++i) { /* <= K bases to a key: no cycle, decode's chain bound (n K steps) */
+		pvs__rec r;
+		uint32_t c = i, k;
+		for (k = 0; k <= f->max_chain && c != PVS_NO_CELL; ++k, c = r.base) pvs__record_at(f, c, &r);
+		if (c != PVS_NO_CELL)
 			return pvs__fail(err, PVS_ERROR_BAD_CHAIN, i, (uint64_t)(r.start - base),
-							 "cell %u: depth %u, its base %u has depth %u", i, r.depth, r.base, rb.depth);
+							 "cell %u: no key cell within %u bases", i, f->max_chain);
 	}
 	return PVS_OK;
 }
@@ -23585,7 +23649,8 @@ PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t 
 						 (unsigned long long)size);
 	if (pvs__get32(p + 4) != PVS_FORMAT_VERSION)
 		return pvs__fail(err, PVS_ERROR_BAD_VERSION, -1, 4, "format version %u, this reader knows %d%s",
-						 pvs__get32(p + 4), PVS_FORMAT_VERSION, pvs__get32(p + 4) == 1 ? ": re-bake the file" : "");
+						 pvs__get32(p + 4), PVS_FORMAT_VERSION,
+						 pvs__get32(p + 4) - 1u < PVS_FORMAT_VERSION - 1u ? ": re-bake the file" : "");
 	if (pvs__get32(p + 8) != size) {
 		pvs_result code = pvs__get32(p + 8) > size ? PVS_ERROR_TRUNCATED : PVS_ERROR_BAD_HEADER;
 		return pvs__fail(err, code, -1, 8, "the header says %u bytes, the buffer has %llu", pvs__get32(p + 8),
@@ -23801,8 +23866,8 @@ PVS_API void pvs_file_get_record_info(const pvs_file *f, uint32_t cell, pvs_reco
 	PVS_ASSERT(f && info && cell < f->cell_count);
 	pvs__record_at(f, cell, &r);
 	info->base = r.base;
-	info->depth = r.depth;
 	info->bytes = (uint32_t)(r.end - r.start);
+	for (info->depth = 0; r.base != PVS_NO_CELL; ++info->depth) pvs__record_at(f, r.base, &r);
 }
 
 // >>runtime
@@ -23835,16 +23900,25 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 	PVS_ASSERT(cell < f->cell_count);
 	pvs__cell_indices(f, cell, idx);
 	for (k = 0; k < 3; ++k) {
-		b.min[k] = pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k]);
-		b.max[k] = pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k + 3]);
+		b.min[k] = pvs__cell_value(f, (uint32_t)k, idx[k]);
+		b.max[k] = pvs__cell_value(f, (uint32_t)k, idx[k + 3]);
 	}
 	return b;
 }
 
-/* Look-up's inner loop, pvs__cell_indices' fast path inlined. */
+/* pvs__cell_value written out for the look-up's inner loop (GCC leaves the call in a unit this size). */
+#define PVS__CELL_V(f, k, i)                                                                              \
+	((f)->private_.value_bits[k] == 255u ? pvs__getf32((f)->private_.values[k] + 4 * (size_t)(i))         \
+	 : (f)->private_.value_step[k] != 0.0f                                                                \
+		 ? (float)((f)->private_.value_base[k] + (int32_t)((f)->private_.values[k][2 * (size_t)(i)] |      \
+														   (uint32_t)(f)->private_.values[k][2 * (size_t)(i) + 1] \
+															   << 8)) *                                  \
+			   (f)->private_.value_step[k]                                                                \
+		 : pvs__cell_value(f, k, i))
+
+/* Look-up's inner loop, pvs__cell_indices' fast path inlined: cell c's closed box holds p. */
 PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[3]) {
-	uint32_t idx[6];
-	int k;
+	uint32_t idx[6], k;
 	uint64_t pos = (uint64_t)c * f->private_.cell_bits;
 	if (f->private_.cell_bits <= 56 && (size_t)(pos >> 3) + 8 <= f->private_.index_bytes) {
 		const uint32_t *wb = f->private_.index_bits;
@@ -23854,22 +23928,15 @@ PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[
 		lo1 = (uint32_t)(w & (((uint64_t)1 << wb[1]) - 1u)); w >>= wb[1];
 		lo2 = (uint32_t)(w & (((uint64_t)1 << wb[2]) - 1u)); w >>= wb[2];
 		e0 = (uint32_t)(w & (((uint64_t)1 << wb[3]) - 1u)); w >>= wb[3];
-		if (p[0] < pvs__getf32(f->private_.values[0] + 4 * (size_t)lo0) ||
-			p[0] > pvs__getf32(f->private_.values[0] + 4 * (size_t)(lo0 + e0)))
-			return 0;
+		if (p[0] < PVS__CELL_V(f, 0, lo0) || p[0] > PVS__CELL_V(f, 0, lo0 + e0)) return 0;
 		e1 = (uint32_t)(w & (((uint64_t)1 << wb[4]) - 1u)); w >>= wb[4];
-		if (p[1] < pvs__getf32(f->private_.values[1] + 4 * (size_t)lo1) ||
-			p[1] > pvs__getf32(f->private_.values[1] + 4 * (size_t)(lo1 + e1)))
-			return 0;
+		if (p[1] < PVS__CELL_V(f, 1, lo1) || p[1] > PVS__CELL_V(f, 1, lo1 + e1)) return 0;
 		e0 = (uint32_t)(w & (((uint64_t)1 << wb[5]) - 1u));
-		return !(p[2] < pvs__getf32(f->private_.values[2] + 4 * (size_t)lo2) ||
-				 p[2] > pvs__getf32(f->private_.values[2] + 4 * (size_t)(lo2 + e0)));
+		return !(p[2] < PVS__CELL_V(f, 2, lo2) || p[2] > PVS__CELL_V(f, 2, lo2 + e0));
 	}
 	pvs__cell_indices(f, c, idx);
 	for (k = 0; k < 3; ++k)
-		if (p[k] < pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k]) ||
-			p[k] > pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k + 3]))
-			return 0;
+		if (p[k] < pvs__cell_value(f, k, idx[k]) || p[k] > pvs__cell_value(f, k, idx[k + 3])) return 0;
 	return 1;
 }
 
@@ -23889,7 +23956,7 @@ PVS_API uint32_t pvs_file_find_object(const pvs_file *f, const char *name) {
 
 /* Point location, manual's TREE rule (p == split: stack no deeper than tree); lowest containing cell wins. */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
-	uint32_t stack[PVS__TREE_MAX_DEPTH + 1], depth = 0, best = PVS_NO_CELL, k = 0, d, inner;
+	uint32_t stack[PVS__TREE_MAX_DEPTH + 1], depth = 0, best = PVS_NO_CELL, k = 0, d, inner, ow;
 	const uint8_t *nodes, *starts, *axes, *items;
 	float p0, p1, p2;
 	if (!f || !p || !f->data || !pvs__finite(p[0]) || !pvs__finite(p[1]) || !pvs__finite(p[2])) return PVS_NO_CELL;
@@ -23897,11 +23964,12 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
 	p1 = p[1];
 	p2 = p[2];
 	d = f->private_.tree_depth;
+	ow = f->private_.tree_offset_bits;
 	inner = (1u << d) - 1u;
 	nodes = f->private_.tree;
-	starts = nodes + 4 * (size_t)inner;
-	axes = starts + 4 * ((size_t)inner + 2);
-	items = axes + inner;
+	axes = nodes + 4 * (size_t)inner;
+	starts = axes + inner;
+	items = starts + (((size_t)inner + 2) * ow + 7) / 8;
 	for (;;) {
 		if (k < inner) {
 			/* k's children side by side, loaded while k compares: one load latency per level (branch-free) */
@@ -23926,8 +23994,8 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
 			}
 		}
 		{
-			const uint8_t *q = items + pvs__get32(starts + 4 * (size_t)(k - inner)),
-						  *end = items + pvs__get32(starts + 4 * (size_t)(k - inner) + 4);
+			const uint8_t *q = items + pvs__bits_at(starts, (uint64_t)(k - inner) * ow, ow, f->data + f->size),
+						  *end = items + pvs__bits_at(starts, (uint64_t)(k - inner + 1) * ow, ow, f->data + f->size);
 			uint32_t id = 0, g;
 			int first = 1;
 			while (q < end) {
@@ -23954,7 +24022,7 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
 	for (;;) { /* cell to key: <= max_chain + 1 records (checked by open) */
 		pvs__record_at(f, cell, &r);
 		chain[n++] = cell;
-		if (!r.depth) break;
+		if (r.base == PVS_NO_CELL) break;
 		cell = r.base;
 	}
 	pvs__rec_decode(f, r.body, r.end, 1, bits, NULL); /* key */
@@ -24046,6 +24114,8 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
+   0.11.0 (2026-11-29) format 3: grid coordinate tables (16-bit steps), packed TREE offsets, no record depth; 2
+   refused.
    0.10.0 (2026-11-29) format 2: records arithmetic-coded in context, objects reordered (MODL); 1 refused.
    0.9.7 (2026-11-29) raster: AVX2 chosen at run time (GCC, Clang), PVS_RASTER_SSE2, pvs_raster_path; PORTAL -18%.
    0.9.6 (2026-11-29) PORTAL 15-30% faster: each source edge once.

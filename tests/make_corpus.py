@@ -1,14 +1,15 @@
 # make_corpus.py - maintenance only (never run by make): rebuilds the hand-made and broken files of
 # tests/corpus from tests/corpus/ok-golden.pvs after a format change. python3 tests/make_corpus.py
-# (format 2: the baked ok-* files were converted from format 1 by decoding with the old reader and
-# encoding with the new writer, tables unchanged; tests/golden/v1.pvs stays to test the re-bake message)
+# (formats 2 and 3: the baked ok-* files were converted from the previous format by decoding with the old
+# reader and encoding with the new writer, tables unchanged; tests/golden/v1.pvs and v2.pvs stay to test the
+# re-bake message)
 import zlib, struct
 d='tests/corpus'
 def al(n): return (n+7)&~7
 def build(secs):
     pos=al(32+16*len(secs)); offs=[]
     for t,dd in secs: offs.append(pos); pos=al(pos+len(dd))
-    f=bytearray(pos); f[0:4]=b'PVS\x1a'; struct.pack_into('<IIII',f,4,2,pos,len(secs),0)
+    f=bytearray(pos); f[0:4]=b'PVS\x1a'; struct.pack_into('<IIII',f,4,3,pos,len(secs),0)
     for i,(t,dd) in enumerate(secs):
         f[offs[i]:offs[i]+len(dd)]=dd
         struct.pack_into('<4sIII',f,32+16*i,t,offs[i],len(dd),zlib.crc32(dd)&0xffffffff)
@@ -35,16 +36,30 @@ out['bad-magic']=b'PVX'+good[3:]
 b=bytearray(good); b[100]^=1; out['bad-checksum']=bytes(b)
 m,_=sec(good,b'META'); b=bytearray(good); struct.pack_into('<I',b,m+20,1); out['bad-chain-bound']=fix(b)
 t,_=sec(good,b'TREE'); b=bytearray(good); struct.pack_into('<I',b,t+8,0x7fc00000); out['bad-tree']=fix(b)
-r,_=sec(good,b'RECS'); b=bytearray(good); first=struct.unpack_from('<I',b,r)[0]; b[r+first+1]=9; out['bad-depth']=fix(b)
-c,_=sec(good,b'CELL'); b=bytearray(good); struct.pack_into('<I',b,c+20,0x7fc00000); out['bad-cell-nan']=fix(b)
-b=bytearray(good); struct.pack_into('<I',b,4,3); out['bad-version']=bytes(b)
+def records(b):
+    r,_=sec(b,b'RECS'); cells=struct.unpack_from('<I',b,sec(b,b'META')[0])[0]; out=[]
+    for blk in range((cells+15)//16):
+        p=r+struct.unpack_from('<I',b,r+4*blk)[0]
+        for c in range(16*blk,min(cells,16*blk+16)):
+            R=b[p]; z=b[p+1]; assert R<128 and z<128; out.append((p+1,c-(z>>1 if z%2==0 else -((z+1)>>1)) if z else None)); p+=1+R
+    return out
+# a cycle: key cell j made a delta of a cell i whose base is j (META's key count one less, so the chain rule decides)
+b=bytearray(good); rs=records(b)
+i,j=next((i,base) for i,(at,base) in enumerate(rs) if base is not None and rs[base][1] is None and abs(i-base)<60)
+b[rs[j][0]]=2*(j-i) if j>=i else 2*(i-j)-1; m,_=sec(b,b'META'); struct.pack_into('<I',b,m+24,struct.unpack_from('<I',b,m+24)[0]-1)
+out['bad-cycle']=fix(b)
+c,_=sec(good,b'CELL'); b=bytearray(good); g=struct.unpack_from('<I',b,c+24)[0]
+if g&255==255: struct.pack_into('<I',b,c+44,0x7fc00000) # table 0 of floats: a NaN
+else: struct.pack_into('<I',b,c+24,(g&255)|0x7fff<<8) # table 0's grid step 2^32767: coordinates not finite
+out['bad-cell-nan']=fix(b)
+b=bytearray(good); struct.pack_into('<I',b,4,4); out['bad-version']=bytes(b)
 for k,v in out.items(): open(d+'/'+k+'.pvs','wb').write(v)
 
 # a billion cells whose indices are all 0 bits wide: must be rejected in time linear in its 360 bytes
 meta=struct.pack('<IIIfIIII',0x3fffffff,10,1,0.0,1,8,1,0)
-cell=struct.pack('<III',1,1,1)+bytes([0,0,0,0,0,0,0,0])+struct.pack('<3f',0,0,0)
-tree=struct.pack('<II',0,0)+struct.pack('<II',0,1)+bytes([0])
-recs=struct.pack('<II',8,11)+bytes([2,0,0])
+cell=struct.pack('<III',1,1,1)+bytes([0,0,0,0,0,0,0,0])+struct.pack('<6I',0,0,0,0,0,0) # tables: one 0 each, 0 bits
+tree=struct.pack('<II',0,1)+bytes([2,0]) # depth 0, 1-bit leaf offsets 0 and 1, the item 0
+recs=struct.pack('<II',8,10)+bytes([1,0])
 open(d+'/bad-huge-cell-count.pvs','wb').write(build([(b'META',meta),(b'CELL',cell),(b'TREE',tree),(b'RECS',recs),(b'MODL',modl)]))
 # an empty unknown section at the offset of TREE, listed after it: opens (sections of size 0 are fine)
 g=bytearray(good); n=struct.unpack_from('<I',g,12)[0]
