@@ -22996,7 +22996,6 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 	return PVS_OK;
 }
 
-/* CELL: cells (-0 as +0), per axis sorted distinct coordinates (e->values), index widths; *cell_bytes: its size. */
 /* Coarsest grid 2^e holding ascending table v (e: lowest set bit of any value's significand): base = v[0] / 2^e and
    steps g below 2^16 (returns 16), else 255 (f32 table; also for tables under 32 values, read fastest so). Exact:
    each v is (base + g) 2^e. */
@@ -23022,6 +23021,7 @@ PVS__STATIC uint32_t pvs__cell_grid(const float *v, uint32_t n, int32_t *base, i
 	return top < 65536.0 && n >= 32 ? 16u : (*base = *e = 0, 255u); /* 16-bit steps where they save 64+ bytes */
 }
 
+/* CELL: cells (-0 as +0), per axis sorted distinct coordinates (e->values), index widths; *cell_bytes: its size. */
 PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_bytes, pvs_error *err) {
 	const pvs_file_desc *d = e->d;
 	size_t index_bits_total, table_bytes = 0;
@@ -23402,10 +23402,10 @@ PVS__STATIC uint32_t pvs__bits_at(const uint8_t *s, uint64_t pos, uint32_t w, co
 
 /* Coordinate i of CELL's table k: f32, or (base + g) 2^e, g 16 bits (in float where that is exact). */
 PVS__STATIC float pvs__cell_value(const pvs_file *f, uint32_t k, uint32_t i) {
-	const uint8_t *t = f->private_.values[k] + 2 * (size_t)i;
+	const uint8_t *t = f->private_.values[k];
 	int32_t m;
-	if (f->private_.value_bits[k] == 255u) return pvs__getf32(t + 2 * (size_t)i);
-	m = f->private_.value_base[k] + (int32_t)(t[0] | (uint32_t)t[1] << 8);
+	if (f->private_.value_bits[k] == 255u) return pvs__getf32(t + 4 * (size_t)i);
+	m = f->private_.value_base[k] + (int32_t)(t[2 * (size_t)i] | (uint32_t)t[2 * (size_t)i + 1] << 8);
 	if (f->private_.value_step[k] != 0.0f) return (float)m * f->private_.value_step[k];
 	return (float)((double)m * ldexp(1.0, f->private_.value_exp[k]));
 }

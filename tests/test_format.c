@@ -395,7 +395,7 @@ static void tbits_put(uint8_t *s, uint64_t pos, uint32_t v, uint32_t w) {
     }
 }
 
-/* CELL's coordinate tables: a grid one (40 cells in a row on halves: 41 x values; the 2-value tables stay f32) and
+/* CELL's coordinate tables: a grid one (40 cells in a row on quarters: 41 x values; the 2-value tables stay f32) and
    f32 ones (boxes scaled by 0.1). */
 static void test_cell_tables(void) {
     enum { ROW = 40 };
@@ -409,7 +409,7 @@ static void test_cell_tables(void) {
     rng_state = 779;
     make_table(ROW, 100, 30, 5, 0, row, rp);
     for (c = 0; c < ROW; ++c) {
-        row[c].min[0] = (float)c * 2.0f - 7.5f, row[c].max[0] = row[c].min[0] + 2.0f;
+        row[c].min[0] = (float)c * 8.0f - 7.25f, row[c].max[0] = row[c].min[0] + 8.0f; /* quarters: 1,280 steps */
         row[c].min[1] = row[c].min[2] = 0.0f, row[c].max[1] = row[c].max[2] = 2.0f;
     }
     desc_init(&rd, row, ROW, 100, rp);
@@ -420,7 +420,7 @@ static void test_cell_tables(void) {
     cl = section(good, "CELL");
     at = cl + 44;
     w0 = good[cl + 24];
-    CHECK(w0 == 16 && test_rd32(good + cl + 24) >> 8 == 0xffffu && good[cl + 32] == 255); /* step 2^-1; f32 */
+    CHECK(w0 == 16 && test_rd32(good + cl + 24) >> 8 == 0xfffeu && good[cl + 32] == 255); /* step 2^-2; f32 */
     for (k = 0; k < 3; ++k) { /* each table's bytes, then the indices: all of the section */
         uint32_t w = good[cl + 24 + 8 * k], n = test_rd32(good + cl + 4 * k);
         at += (w == 255 ? 4 : 2) * n;
@@ -432,6 +432,13 @@ static void test_cell_tables(void) {
     for (c = 0; c < ROW; ++c) {
         pvs_box x = pvs_file_cell_box(&f, c);
         for (k = 0; k < 3; ++k) CHECK(x.min[k] == row[c].min[k] && x.max[k] == row[c].max[k]);
+    }
+    for (c = 0; c < 2000; ++c) { /* the look-up's grid steps against the boxes (cell faces every other time) */
+        float p[3];
+        p[0] = c % 2 ? (float)(rnd() % 41) * 8.0f - 7.25f : (float)(rnd() % 34000) * 0.01f - 10.0f;
+        p[1] = (float)(rnd() % 250) * 0.01f - 0.2f;
+        p[2] = (float)(rnd() % 250) * 0.01f - 0.2f;
+        CHECK(pvs_file_find_cell(&f, p) == linear_find(&f, p));
     }
     b[cl + 24] = 8; BAD(PVS_ERROR_BAD_SECTION);                                    /* width 8: neither grid nor f32 */
     b[cl + 27] = 1; BAD(PVS_ERROR_BAD_SECTION);                                    /* the grid word's top byte */
