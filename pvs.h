@@ -1257,7 +1257,7 @@ typedef struct pvs_file {
 		const uint8_t *values[3];	/* CELL: per-axis coordinate tables */
 		const uint8_t *indices; /* CELL: packed per-cell indices */
 		uint32_t value_count[3], index_bits[6], cell_bits; /* widths: min indices, then extents */
-		uint32_t value_bits[3]; /* table k: (value_base + g) 2^value_exp, g of value_bits bits; 255: f32 */
+		uint32_t value_bits[3]; /* table k: 16, u16 steps g, (value_base + g) 2^value_exp; 255: f32 values */
 		int32_t value_base[3], value_exp[3];
 		float value_step[3]; /* 2^value_exp where float math is exact, else 0 */
 		size_t index_bytes;
@@ -22608,7 +22608,7 @@ typedef struct pvs__encoder {
 	float *values[3];
 	uint32_t value_count[3], index_bits[6]; /* widths: min indices, then extents */
 	int32_t grid_base[3], grid_exp[3];
-	uint32_t grid_bits[3]; /* CELL table k: (grid_base + g) 2^grid_exp, g of grid_bits bits; 255: f32 */
+	uint32_t grid_bits[3]; /* CELL table k: 16, u16 steps g, (grid_base + g) 2^grid_exp; 255: f32 values */
 	pvs_kdtree *tree; /* over cells: base candidates */
 	uint8_t *tree_stream; /* TREE nodes */
 	size_t tree_bytes;
