@@ -485,7 +485,7 @@ typedef struct pvs_raster_desc {
 	uint32_t cull_map_width; /* cull map cells over the scene's ground, 0 = none */
 	uint32_t cull_map_height; /*   (both or neither; 1..4096; needs `scene`) */
 	uint32_t flags; /* PVS_RASTER_* */
-	uint32_t max_mesh_triangles; /* pvs_raster_mesh's piece size, >= 4, 0 = 4096 (~400 bytes each) */
+	uint32_t max_mesh_triangles; /* pvs_raster_mesh's piece size, >= 8, 0 = 4096 (~400 bytes each) */
 	uint32_t bin_triangles; /* pvs_raster_bin's triangles per frame (34 bytes each), 0 = none */
 	pvs_allocator allocator;
 } pvs_raster_desc;
@@ -4654,6 +4654,8 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 	unsigned keep, test, lanes;
 	int n, mesh = part > PVS_RASTER_PARTS;
 	int32_t box[32]; /* box[8 k + l]: lane l's i0, i1, j0, j1 */
+	uint32_t qn = part < PVS_RASTER_PARTS ? r->qcount[part] : 0; /* kept: counted here, stored once (threads' bins
+																	 share qcount's cache line) */
 	if (!vertex_count) return t1;
 	memcpy(last, positions + (size_t)(vertex_count - 1) * stride, 3 * sizeof(float)); /* for SIMD's 4-float reads */
 	last[3] = 0.0f;
@@ -4690,7 +4692,7 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 			pvs__tlim lim = {0, INT32_MAX, 0, INT32_MAX, FLT_MAX, 0};
 			lim.cull = cull;
 			if ((keep >> l) & 1u && part < PVS_RASTER_PARTS) { /* kept for its rows' bands (untested: all) */
-				uint32_t i = r->qcount[PVS_RASTER_PARTS + part] + r->qcount[part]++, tst = (test >> l) & 1u;
+				uint32_t i = r->qcount[PVS_RASTER_PARTS + part] + qn++, tst = (test >> l) & 1u;
 				pvs__qtri *q = r->qtri + i;
 				q->draw = draw, q->tri = id[l], q->zmax = zmax[l], q->test = tst | (uint32_t)(cull + 1) << 1;
 				for (k = 0; k < 4; ++k) q->box[k] = b[8 * k];
@@ -4707,6 +4709,7 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 		}
 		if (mesh && r->mcn + 8 > r->mesh_cap) return t + 8;
 	}
+	if (part < PVS_RASTER_PARTS) r->qcount[part] = qn;
 	return t1;
 }
 
