@@ -1387,10 +1387,10 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 // >>core
 /* ==== core: result strings, allocator, errors, math, bitsets ==== */
 
-/* Shared kernels: errors, checked sizes (pvs__fail, pvs__mul), allocation (pvs__alloc*, pvs__free_array), growable
-   arrays (pvs__grow*), math, boxes, bitsets, RNG, allocation-free heaps and sorts (big bake sorts: PVS_QSORT),
-   union-find, little-endian bytes, CRC-32, bake's method table. Elsewhere: pvs__kd_sweep (>>kdtree), pvs__pyramid_level
-   (>>raster). */
+/* Shared kernels: errors, checked sizes (pvs__fail, PVS__FAIL, pvs__mul), allocation (pvs__alloc*, PVS__ALLOC_N,
+   PVS__FREE_N), growable arrays (pvs__grow*), math, boxes, PVS__FOR3, PVS__ZERO, bitsets, RNG, allocation-free heaps
+   and sorts (big bake sorts: PVS_QSORT), union-find, little-endian bytes, CRC-32, bake's method table. Elsewhere:
+   pvs__kd_sweep (>>kdtree), pvs__pyramid_level (>>raster). */
 
 PVS_API const char *pvs_result_string(pvs_result r) {
 	static const char *const s[] = {
@@ -1434,6 +1434,9 @@ PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index,
 }
 #define PVS__OOM(err, ...) pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, __VA_ARGS__)
 #define PVS__BAD_ARG(err, ...) pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, __VA_ARGS__)
+/* The same for any code, no index or offset; a bad section at byte offset `off` (>>format). */
+#define PVS__FAIL(err, code, ...) pvs__fail(err, code, -1, 0, __VA_ARGS__)
+#define PVS__BAD_SECTION(err, off, ...) pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, __VA_ARGS__)
 
 PVS__STATIC void pvs__ok(pvs_error *err) {
 	if (err) {
@@ -1497,6 +1500,10 @@ PVS__STATIC void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size
 /* The same, sized by type: n elements of T; freeing n elements of *p's type. */
 #define PVS__ALLOC_N(a, T, n) ((T *)pvs__alloc_array(a, n, sizeof(T)))
 #define PVS__FREE_N(a, p, n) pvs__free_array(a, p, n, sizeof(*(p)))
+/* k over the three axes (x, y, z) or a triangle's three corners. */
+#define PVS__FOR3(k) for (k = 0; k < 3; ++k)
+/* Zeroes the object x (a variable, *p, a member). */
+#define PVS__ZERO(x) memset(&(x), 0, sizeof(x))
 
 /* ---- math (private names: none leak into engine) ---- */
 
@@ -1524,21 +1531,21 @@ PVS__STATIC pvs_box pvs__box_empty(void) {
 }
 PVS__STATIC void pvs__box_add_point(pvs_box *b, const float *p) {
 	int i;
-	for (i = 0; i < 3; ++i) {
+	PVS__FOR3(i) {
 		if (p[i] < b->min[i]) b->min[i] = p[i];
 		if (p[i] > b->max[i]) b->max[i] = p[i];
 	}
 }
 PVS__STATIC void pvs__box_add_box(pvs_box *b, const pvs_box *o) {
 	int i;
-	for (i = 0; i < 3; ++i) {
+	PVS__FOR3(i) {
 		if (o->min[i] < b->min[i]) b->min[i] = o->min[i];
 		if (o->max[i] > b->max[i]) b->max[i] = o->max[i];
 	}
 }
 PVS__STATIC int pvs__box_valid(const pvs_box *b) {
 	int i;
-	for (i = 0; i < 3; ++i)
+	PVS__FOR3(i)
 		if (!pvs__finite(b->min[i]) || !pvs__finite(b->max[i]) || b->min[i] > b->max[i]) return 0;
 	return 1;
 }
@@ -1553,7 +1560,7 @@ PVS__STATIC int pvs__box_overlap(const pvs_box *a, const pvs_box *b) {
 /* Cuts b to `by`; 1 if not empty (points count). */
 PVS__STATIC int pvs__box_clip(pvs_box *b, const pvs_box *by) {
 	int i;
-	for (i = 0; i < 3; ++i) {
+	PVS__FOR3(i) {
 		if (by->min[i] > b->min[i]) b->min[i] = by->min[i];
 		if (by->max[i] < b->max[i]) b->max[i] = by->max[i];
 	}
@@ -1566,7 +1573,7 @@ PVS__STATIC double pvs__box_diagonal(const pvs_box *b) {
 PVS__STATIC float pvs__box_distance2(const pvs_box *a, const pvs_box *b) {
 	float d2 = 0.0f;
 	int i;
-	for (i = 0; i < 3; ++i) {
+	PVS__FOR3(i) {
 		float g = 0.0f;
 		if (b->min[i] > a->max[i]) g = b->min[i] - a->max[i];
 		else if (a->min[i] > b->max[i]) g = a->min[i] - b->max[i];
@@ -1957,7 +1964,7 @@ PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes,
 PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c, double out[3]) {
 	double n1[3], n2[3], n3[3], x[3], det;
 	int i;
-	for (i = 0; i < 3; ++i) { n1[i] = a[i]; n2[i] = b[i]; n3[i] = c[i]; }
+	PVS__FOR3(i) { n1[i] = a[i]; n2[i] = b[i]; n3[i] = c[i]; }
 	x[0] = n2[1] * n3[2] - n2[2] * n3[1];
 	x[1] = n2[2] * n3[0] - n2[0] * n3[2];
 	x[2] = n2[0] * n3[1] - n2[1] * n3[0];
@@ -1977,7 +1984,7 @@ PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c
 		c12[0] = n1[1] * n2[2] - n1[2] * n2[1];
 		c12[1] = n1[2] * n2[0] - n1[0] * n2[2];
 		c12[2] = n1[0] * n2[1] - n1[1] * n2[0];
-		for (i = 0; i < 3; ++i) out[i] = (d1 * x[i] + d2 * c31[i] + d3 * c12[i]) / det;
+		PVS__FOR3(i) out[i] = (d1 * x[i] + d2 * c31[i] + d3 * c12[i]) / det;
 	}
 	return 1;
 }
@@ -2046,7 +2053,7 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
 	if (on_guard)
 		return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the half-spaces are unbounded",
 						 (long long)index);
-	for (k = 0; k < 3; ++k)
+	PVS__FOR3(k)
 		if (!(b.min[k] < b.max[k]))
 			return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the volume is flat",
 							 (long long)index);
@@ -2083,11 +2090,11 @@ PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32
 	uint32_t i, j, n;
 	switch (o->kind) {
 	case PVS_OCCLUDER_BOX:
-		for (i = 0; i < 3; ++i)
+		PVS__FOR3(i)
 			if (!pvs__finite(o->box.min[i]) || !pvs__finite(o->box.max[i]))
 				return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: box is not finite",
 								 (long long)index);
-		for (i = 0; i < 3; ++i)
+		PVS__FOR3(i)
 			if (!(o->box.min[i] < o->box.max[i]))
 				return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: box min >= max on axis %u",
 								 (long long)index, i);
@@ -2187,12 +2194,11 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 		return PVS__BAD_ARG(err, "up_axis %u is not 0, 1 or 2", desc->up_axis);
 	if (desc->triangle_count > 0xfffffffeu / 3 || desc->vertex_count == 0xffffffffu ||
 		desc->object_count == 0xffffffffu)
-		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0,
-						 "more than 2^32 - 2 triangle indices, vertices or objects");
+		return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "more than 2^32 - 2 triangle indices, vertices or objects");
 	if (!pvs__mul(desc->vertex_count, 3 * sizeof(float), &n3) ||
 		!pvs__mul(desc->triangle_count, 3 * sizeof(uint32_t), &n3) ||
 		!pvs__mul(desc->triangle_count, sizeof(pvs_box), &n3))
-		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the arrays do not fit in memory");
+		return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "the arrays do not fit in memory");
 
 	for (i = 0; i < (size_t)desc->vertex_count * 3; ++i)
 		if (!pvs__finite(desc->positions[i]))
@@ -2299,7 +2305,7 @@ PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc
 	pvs_kdtree_desc kd;
 	pvs_result r;
 	uint32_t t, see = 0;
-	memset(&kd, 0, sizeof(kd));
+	PVS__ZERO(kd);
 	kd.allocator = s->allocator;
 	for (t = 0; t < desc->triangle_count; ++t) see += !pvs__tri_blocks(s, t);
 	if (see) {
@@ -2343,7 +2349,7 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
 	a = desc->allocator;
 	s = (pvs_scene *)pvs__alloc(&a, sizeof(pvs_scene), 16);
 	if (!s) return PVS__OOM(err, "scene");
-	memset(s, 0, sizeof(*s));
+	PVS__ZERO(*s);
 	s->allocator = a;
 	s->up_axis = desc->up_axis == 2 ? 2 : 1;
 	s->flags = desc->flags;
@@ -2385,7 +2391,7 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
 	r = pvs__scene_occluders(s, desc, err);
 	if (r != PVS_OK) goto fail;
 	if (s->bounds.min[0] > s->bounds.max[0]) {
-		r = pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, -1, 0, "the scene has no geometry");
+		r = PVS__FAIL(err, PVS_ERROR_EMPTY_OBJECT, "the scene has no geometry");
 		goto fail;
 	}
 
@@ -2430,7 +2436,7 @@ PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *s) {
 		h = pvs__fnv(h, s->object_flags + o, 1);
 		h = pvs__fnv(h, s->object_triangles + 2 * o + 1, 1);
 		for (t = s->object_triangles[2 * o]; t < s->object_triangles[2 * o] + s->object_triangles[2 * o + 1]; ++t)
-			for (k = 0; k < 3; ++k) h = pvs__fnv(h, s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k], 3);
+			PVS__FOR3(k) h = pvs__fnv(h, s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k], 3);
 	}
 	for (o = 0; o < s->occluder_count; ++o) {
 		const pvs_occluder_desc *d = s->occluders + o;
@@ -2481,11 +2487,11 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 			}
 			if (np != 2 || nh != 2) continue;
 			/* three distinct corners each, sharing just two (a diagonal) */
-			for (k = 0; k < 3; ++k)
+			PVS__FOR3(k)
 				if (c[k] == c[(k + 1) % 3] || c[3 + k] == c[3 + (k + 1) % 3] ||
 					!memcmp(c[k], c[(k + 1) % 3], 12) || !memcmp(c[3 + k], c[3 + (k + 1) % 3], 12)) break;
 			if (k < 3) continue;
-			for (k = 0; k < 3; ++k)
+			PVS__FOR3(k)
 				for (m = 3; m < 6; ++m)
 					if (!memcmp(c[k], c[m], 12)) {
 						++shared;
@@ -2572,11 +2578,11 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 	size_t i;
 	uint32_t *items;
 	if (t->item_count > PVS__KD_MAX_INDEX || n > (size_t)0xffffffffu - t->item_count)
-		return pvs__fail(b->err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "kD-tree: more than 2^30 item references");
+		return PVS__FAIL(b->err, PVS_ERROR_COUNT_OVERFLOW, "kD-tree: more than 2^30 item references");
 	items = (uint32_t *)pvs__grow_capped(&t->allocator, t->items, &t->item_capacity, t->item_count, t->item_count + n,
 										 b->item_limit, sizeof(uint32_t), &r);
 	if (!items)
-		return pvs__fail(b->err, r, -1, 0, "kD-tree leaf items (%llu)", (unsigned long long)(t->item_count + n));
+		return PVS__FAIL(b->err, r, "kD-tree leaf items (%llu)", (unsigned long long)(t->item_count + n));
 	t->items = items;
 	for (i = 0; i < n; ++i) items[t->item_count + i] = b->refs[base + i].item;
 	t->nodes[node].u.count = (uint32_t)n;
@@ -2602,9 +2608,9 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	if (n <= b->leaf_size || depth >= b->max_depth || b->nodes_left < 2) return pvs__kd_make_leaf(b, node, base, n);
 
 	/* box's SAH measure, k1[axis] * extent + k0[axis]: half surface area, or edge sum if no area */
-	for (axis = 0; axis < 3; ++axis) ext[axis] = box->max[axis] - box->min[axis];
+	PVS__FOR3(axis) ext[axis] = box->max[axis] - box->min[axis];
 	area = ext[0] * ext[1] + ext[1] * ext[2] + ext[2] * ext[0] > 0.0f;
-	for (axis = 0; axis < 3; ++axis) {
+	PVS__FOR3(axis) {
 		float eb = ext[(axis + 1) % 3], ec = ext[(axis + 2) % 3];
 		k1[axis] = area ? eb + ec : 1.0f;
 		k0[axis] = area ? eb * ec : eb + ec;
@@ -2615,7 +2621,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	/* planes[a][1 .. nb-1]: candidates; [0] = -inf, [nb] = +inf bound searches below */
 	nb = n <= 16 ? 8 : n <= 64 ? 16 : PVS__KD_BINS;
 	inv_nb = 1.0f / (float)nb;
-	for (axis = 0; axis < 3; ++axis) {
+	PVS__FOR3(axis) {
 		float lo = box->min[axis], width = ext[axis];
 		int k;
 		scale[axis] = (float)nb / width; /* +inf if width is 0 or tiny: no split axis */
@@ -2630,7 +2636,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	sampled = n > PVS__KD_SAMPLE ? PVS__KD_SAMPLE : n;
 	for (j = 0; j < sampled; ++j) {
 		const pvs__kdref *ref = b->refs + base + (sampled == n ? j : (size_t)((uint64_t)j * n / sampled));
-		for (axis = 0; axis < 3; ++axis) {
+		PVS__FOR3(axis) {
 			const float *pl = b->planes[axis];
 			float lo = box->min[axis], mn = ref->min[axis], mx = ref->max[axis];
 			int s, e;
@@ -2650,7 +2656,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	/* each inner plane's cost; ties keep first (lowest axis, then plane): deterministic */
 	best_cost = PVS__KD_COST_ITEM * (float)n;
 	count_scale = (float)n / (float)sampled;
-	for (axis = 0; axis < 3; ++axis) {
+	PVS__FOR3(axis) {
 		uint32_t left = 0, right = (uint32_t)sampled - b->ends[axis][0];
 		int k;
 		if (!valid[axis]) continue;
@@ -2689,7 +2695,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	{
 		pvs__kdref *refs = (pvs__kdref *)pvs__grow_capped(&t->allocator, b->refs, &b->ref_capacity, base + n,
 														  base + n + nr + 1, b->ref_limit, sizeof(pvs__kdref), &r);
-		if (!refs) return pvs__fail(b->err, r, -1, 0, "kD-tree build references");
+		if (!refs) return PVS__FAIL(b->err, r, "kD-tree build references");
 		b->refs = refs;
 	}
 	for (i = 0, w = base, top = base + n; i < n; ++i) {
@@ -2706,12 +2712,12 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	}
 
 	if (t->node_count > PVS__KD_MAX_INDEX - 1)
-		return pvs__fail(b->err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "kD-tree: more than 2^30 nodes");
+		return PVS__FAIL(b->err, PVS_ERROR_COUNT_OVERFLOW, "kD-tree: more than 2^30 nodes");
 	{
 		pvs__kdnode *nodes =
 			(pvs__kdnode *)pvs__grow_capped(&t->allocator, t->nodes, &t->node_capacity, t->node_count,
 											(size_t)t->node_count + 2, b->node_limit, sizeof(pvs__kdnode), &r);
-		if (!nodes) return pvs__fail(b->err, r, -1, 0, "kD-tree nodes (%u)", t->node_count + 2);
+		if (!nodes) return PVS__FAIL(b->err, r, "kD-tree nodes (%u)", t->node_count + 2);
 		t->nodes = nodes;
 	}
 	child = t->node_count;
@@ -2753,7 +2759,7 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	for (i = 0; i < desc->count; ++i) {
 		const pvs_box *bx = desc->boxes + i;
 		int k, empty = 0;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			if (!pvs__finite(bx->min[k]) || !pvs__finite(bx->max[k]))
 				return pvs__fail(err, PVS_ERROR_NOT_FINITE, i, 0, "kD-tree box %u has a coordinate that is not finite",
 								 i);
@@ -2764,12 +2770,12 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	a = desc->allocator;
 	t = (pvs_kdtree *)pvs__alloc(&a, sizeof(pvs_kdtree), 16);
 	if (!t) return PVS__OOM(err, "kD-tree");
-	memset(t, 0, sizeof(*t));
+	PVS__ZERO(*t);
 	t->allocator = a;
 	t->bounds = pvs__box_empty();
 	b = (pvs__kdbuild *)pvs__alloc(&a, sizeof(pvs__kdbuild), 16);
 	if (!b) { r = PVS__OOM(err, "kD-tree builder"); goto done; }
-	memset(b, 0, sizeof(*b));
+	PVS__ZERO(*b);
 	b->tree = t;
 	b->err = err;
 	b->leaf_size = desc->leaf_size ? desc->leaf_size : 4;
@@ -2794,7 +2800,7 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	if (t->items)
 		b->refs = (pvs__kdref *)pvs__grow_capped(&a, NULL, &b->ref_capacity, 0, 1 + (size_t)m + m / 2, b->ref_limit,
 												 sizeof(pvs__kdref), &r);
-	if (!b->refs) { r = pvs__fail(err, r, -1, 0, "kD-tree arrays for %u boxes", m); goto done; }
+	if (!b->refs) { r = PVS__FAIL(err, r, "kD-tree arrays for %u boxes", m); goto done; }
 	m = 0;
 	for (i = 0; i < desc->count; ++i) {
 		const pvs_box *bx = desc->boxes + i;
@@ -2924,7 +2930,7 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
 	size_t cap;
 	int k;
 	if (!t || !source || !visit) return PVS_ERROR_INVALID_ARGUMENT;
-	for (k = 0; k < 3; ++k)
+	PVS__FOR3(k)
 		if (!pvs__finite(source->min[k]) || !pvs__finite(source->max[k])) return PVS_ERROR_NOT_FINITE;
 	if (t->bounds.min[0] > t->bounds.max[0]) return PVS_OK;
 	cap = scratch ? scratch_size / sizeof(pvs__kdsweep) : 0;
@@ -2947,11 +2953,11 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 	int sp = 0, k;
 	if (!t || !origin || !dir || !fn || t->bounds.min[0] > t->bounds.max[0]) return;
 	if (!(tmax_f >= 0.0f)) return; /* negative or NaN */
-	for (k = 0; k < 3; ++k)
+	PVS__FOR3(k)
 		if (!pvs__finite(origin[k]) || !pvs__finite(dir[k])) return;
 	if (dir[0] == 0.0f && dir[1] == 0.0f && dir[2] == 0.0f) return;
 	tmax = tf = (double)tmax_f;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		double lo = t->bounds.min[k], hi = t->bounds.max[k];
 		o[k] = origin[k];
 		d[k] = dir[k];
@@ -3056,11 +3062,11 @@ PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes,
 		const uint32_t *tri = s->indices + 3 * (size_t)t;
 		double e1[3], e2[3];
 		int k;
-		for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)tri[k];
+		PVS__FOR3(k) c[k] = s->positions + 3 * (size_t)tri[k];
 		if (pvs__point_less(c[1], c[0])) { x = c[0]; c[0] = c[1]; c[1] = x; }
 		if (pvs__point_less(c[2], c[1])) { x = c[1]; c[1] = c[2]; c[2] = x; }
 		if (pvs__point_less(c[1], c[0])) { x = c[0]; c[0] = c[1]; c[1] = x; }
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			memcpy(s->triangle_corners + 9 * (size_t)t + 3 * k, c[k], 3 * sizeof(float));
 			e1[k] = (double)c[1][k] - c[0][k];
 			e2[k] = (double)c[2][k] - c[0][k];
@@ -3106,7 +3112,7 @@ PVS__STATIC double pvs__edge(const double *p, const double *q) { return p[0] * q
 PVS__STATIC int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax, double *t_out) {
 	double p[3][2], z[3], u, v, w, det, t;
 	int k;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		double ax = (double)c[3 * k + r->kx] - r->o[r->kx];
 		double ay = (double)c[3 * k + r->ky] - r->o[r->ky];
 		double az = (double)c[3 * k + r->kz] - r->o[r->kz];
@@ -3163,7 +3169,7 @@ PVS_API int pvs_scene_raycast(const pvs_scene *s, const float origin[3], const f
 	double o[3], d[3];
 	int k;
 	if (!s || !origin || !dir || !(tmax >= 0.0f)) return 0;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		o[k] = origin[k];
 		d[k] = dir[k];
 	}
@@ -3189,7 +3195,7 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 	float df[3];
 	int k;
 	if (!s || !a || !b) return 0;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		o[k] = a[k];
 		d[k] = (double)b[k] - (double)a[k];
 		df[k] = b[k] - a[k];
@@ -3234,7 +3240,7 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 	double o[3], d[3];
 	int k;
 	if (!s->see_through_tree) return;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		o[k] = origin[k];
 		d[k] = dir[k];
 	}
@@ -4392,7 +4398,7 @@ PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
 		p[0] * (q[1] * s[3] - s[1] * q[3]) - p[1] * (q[0] * s[3] - s[0] * q[3]) + p[3] * (q[0] * s[1] - s[0] * q[1]);
 	double M = 0.0, e = pvs__dmax(v[0].e, pvs__dmax(v[1].e, v[2].e)), bound;
 	int i;
-	for (i = 0; i < 3; ++i)
+	PVS__FOR3(i)
 		M = pvs__dmax(M, pvs__dmax(pvs__dabs(v[i].c[0]), pvs__dmax(pvs__dabs(v[i].c[1]), pvs__dabs(v[i].c[3]))));
 	/* = e (3 M^2 + 3 M e + e^2): no cancellation */
 	bound =
@@ -4406,7 +4412,7 @@ PVS__STATIC int pvs__tri(pvs_raster *r, const float *p0, const float *p1, const 
 						 const pvs__tlim *lim) {
 	pvs__cv v[3];
 	int k;
-	for (k = 0; k < 3; ++k)
+	PVS__FOR3(k)
 		if (!pvs__finite(p0[k]) || !pvs__finite(p1[k]) || !pvs__finite(p2[k])) return 0;
 	v[0] = pvs__raster_transform(r, p0);
 	v[1] = pvs__raster_transform(r, p1);
@@ -4446,7 +4452,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 		float cz[3], cw[3], x[3], y[3], z, xmin = 0.0f, xmax = 0.0f, ymin = 0.0f, ymax = 0.0f, zm = 0.0f, f;
 		int behind = 0, nonpos = 0, fin = 1;
 		int32_t i0, i1, j0, j1;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			float X = v[l][k][0], Y = v[l][k][1], Z = v[l][k][2];
 			cz[k] = m[8] * X + m[9] * Y + m[10] * Z + m[11];
 			cw[k] = m[12] * X + m[13] * Y + m[14] * Z + m[15];
@@ -4456,7 +4462,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 		if (behind == 3 || nonpos == 3) continue;
 		draw |= 1u << l;
 		if (behind || nonpos) continue;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			float X = v[l][k][0], Y = v[l][k][1], Z = v[l][k][2], rw = 1.0f / cw[k];
 			x[k] = (m[0] * X + m[1] * Y + m[2] * Z + m[3]) * rw * hw + hw;
 			y[k] = (m[4] * X + m[5] * Y + m[6] * Z + m[7]) * rw * hh + hh;
@@ -4502,7 +4508,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 		I i0, i1, j0, j1; \
 		unsigned all, tst; \
 		int k; \
-		for (k = 0; k < 3; ++k) { \
+		PVS__FOR3(k) { \
 			F##_xyz3(v, k, &X[k], &Y[k], &Z[k]); \
 			cz[k] = PVS__ROW(F, 8, k); \
 			cw[k] = PVS__ROW(F, 12, k); \
@@ -4522,7 +4528,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 		if (all == A) return 0; \
 		if ((unsigned)M##_bits(anyb) == A) return all ^ A; \
 		xmin = xmax = ymin = ymax = zm = zero; \
-		for (k = 0; k < 3; ++k) { \
+		PVS__FOR3(k) { \
 			rw = F##_div(one, cw[k]); \
 			x = F##_add(F##_mul(F##_mul(PVS__ROW(F, 0, k), rw), hw), hw); \
 			y = F##_add(F##_mul(F##_mul(PVS__ROW(F, 4, k), rw), hh), hh); \
@@ -4665,12 +4671,12 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 			uint32_t q[3];
 			pvs__tri_corners(indices, tris, t + l, q);
 			if (q[0] >= vertex_count || q[1] >= vertex_count || q[2] >= vertex_count) continue;
-			for (k = 0; k < 3; ++k) v[n][k] = q[k] + 1 == vertex_count ? last : positions + (size_t)q[k] * stride;
+			PVS__FOR3(k) v[n][k] = q[k] + 1 == vertex_count ? last : positions + (size_t)q[k] * stride;
 			id[n++] = t + l;
 		}
 		if (!n) continue;
 		for (l = (uint32_t)n; l < 8; ++l)
-			for (k = 0; k < 3; ++k) v[l][k] = v[0][k];
+			PVS__FOR3(k) v[l][k] = v[0][k];
 #if defined(PVS__AVX8)
 		if (!(r->flags & PVS_RASTER_SCALAR) && PVS__AVX8_ON(r))
 			keep = pvs__pf_avx2(r, (const float *const(*)[3])v, &test, box, zmax, cull);
@@ -4774,7 +4780,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 	double mag, zmag, ox, oy, iw, jh, span, noise;
 	pvs__polyext x;
 	int i, n = 3;
-	for (i = 0; i < 3; ++i)
+	PVS__FOR3(i)
 		if (!(v[i].c[3] - v[i].c[2] >= 0.0) || !(v[i].c[3] >= 1e-30)) break;
 	if (i < 3) {
 		n = pvs__raster_clip(v, 3, t1, 0, l0, l1);
@@ -5042,14 +5048,14 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
 		}
 	}
 	if (!ok) return;
-	for (k = 0; k < 3; ++k) cid[3 * t + k] = pvs__mesh_weld(r, hs, pos, q[k], p[k]);
+	PVS__FOR3(k) cid[3 * t + k] = pvs__mesh_weld(r, hs, pos, q[k], p[k]);
 	if (cid[3 * t] == cid[3 * t + 1] || cid[3 * t + 1] == cid[3 * t + 2] || cid[3 * t + 2] == cid[3 * t]) return;
-	for (k = 0; k < 3; ++k) v[k] = pvs__raster_transform(r, p[k]);
+	PVS__FOR3(k) v[k] = pvs__raster_transform(r, p[k]);
 	if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
 	if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
 	g = pvs__mesh_facing(v);
 	if (!g || g == r->cull || !pvs__mesh_setup(r, v, g, r->mt + t)) return;
-	for (k = 0; k < 3; ++k) { /* 1: surely in front of both clip planes, 2: surely behind one, 0: unsure */
+	PVS__FOR3(k) { /* 1: surely in front of both clip planes, 2: surely behind one, 0: unsure */
 		double w = v[k].c[3], zc = v[k].c[2], e = v[k].e;
 		double m1 = 2.0 * e + 4.5e-16 * (pvs__dabs(w) + pvs__dabs(zc)), m2 = e + 4.5e-16 * pvs__dabs(w) + 1e-45;
 		r->mvst[3 * t + k] = (uint8_t)(w - zc > m1 && w - 1e-30 > m2 ? 1 : w - zc < -m1 || w - 1e-30 < -m2 ? 2 : 0);
@@ -5063,7 +5069,7 @@ PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
 	for (h = 0; h < hs; ++h) tab[h] = 0;
 	for (t = 0; t < n; ++t) {
 		if (!r->mgrp[t]) continue;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			uint32_t he = 3 * t + k, a = cid[he], b = cid[3 * t + (k + 1) % 3], lo = a < b ? a : b, hi2 = a < b ? b : a;
 			part[he] = PVS__MESH_NONE;
 			h = (lo * 0x9E3779B1u) ^ (hi2 * 0x85EBCA77u);
@@ -5161,7 +5167,7 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *c, float aspect, float m[
 	double f[3], u[3], rt[3], len, fu, e[3], sx, sy;
 	int k;
 	if (!c || !m) return PVS_ERROR_INVALID_ARGUMENT;
-	for (k = 0; k < 3; ++k)
+	PVS__FOR3(k)
 		if (!pvs__finite(c->eye[k]) || !pvs__finite(c->forward[k]) || !pvs__finite(c->up[k]))
 			return PVS_ERROR_NOT_FINITE;
 	if (!pvs__finite(c->fov_y) || !pvs__finite(c->near_plane) || !pvs__finite(aspect) ||
@@ -5170,28 +5176,28 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *c, float aspect, float m[
 	if (!(aspect > 0.0f) || !(c->near_plane > 0.0f) || c->fov_y < 0.0f || !(c->fov_y < 3.14159f))
 		return PVS_ERROR_INVALID_ARGUMENT;
 	if (c->fov_y == 0.0f && !(c->ortho_height > 0.0f)) return PVS_ERROR_INVALID_ARGUMENT;
-	for (k = 0; k < 3; ++k) { f[k] = c->forward[k]; u[k] = c->up[k]; e[k] = c->eye[k]; }
+	PVS__FOR3(k) { f[k] = c->forward[k]; u[k] = c->up[k]; e[k] = c->eye[k]; }
 	len = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
 	if (!(len > 0.0)) return PVS_ERROR_INVALID_ARGUMENT;
-	for (k = 0; k < 3; ++k) f[k] /= len;
+	PVS__FOR3(k) f[k] /= len;
 	fu = f[0] * u[0] + f[1] * u[1] + f[2] * u[2];
-	for (k = 0; k < 3; ++k) u[k] -= fu * f[k];
+	PVS__FOR3(k) u[k] -= fu * f[k];
 	len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
 	if (!(len > 1e-12)) return PVS_ERROR_INVALID_ARGUMENT; /* up parallel to forward */
-	for (k = 0; k < 3; ++k) u[k] /= len;
+	PVS__FOR3(k) u[k] /= len;
 	rt[0] = f[1] * u[2] - f[2] * u[1];
 	rt[1] = f[2] * u[0] - f[0] * u[2];
 	rt[2] = f[0] * u[1] - f[1] * u[0];
 	sy = c->fov_y > 0.0f ? 1.0 / tan(0.5 * (double)c->fov_y) : 2.0 / c->ortho_height;
 	sx = sy / (double)aspect;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		m[k] = (float)(sx * rt[k]);
 		m[4 + k] = (float)(sy * u[k]);
 	}
 	m[3] = (float)(-sx * (rt[0] * e[0] + rt[1] * e[1] + rt[2] * e[2]));
 	m[7] = (float)(-sy * (u[0] * e[0] + u[1] * e[1] + u[2] * e[2]));
 	if (c->fov_y > 0.0f) {
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			m[8 + k] = 0.0f;
 			m[12 + k] = (float)f[k];
 		}
@@ -5200,7 +5206,7 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *c, float aspect, float m[
 	} else {
 		double far_d = c->far_plane > c->near_plane ? c->far_plane : (double)c->near_plane + 1e4;
 		double range = far_d - c->near_plane;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			m[8 + k] = (float)(-f[k] / range);
 			m[12 + k] = 0.0f;
 		}
@@ -5553,7 +5559,7 @@ PVS__STATIC int pvs__box_scalar(const pvs_raster *r, const pvs_box *b, const pvs
 	const float *m = r->mf;
 	float c[8][4];
 	int k, bn = 0, bw = 0, mb = 0, s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-	memset(o, 0, sizeof(*o));
+	PVS__ZERO(*o);
 	for (k = 0; k < 8; ++k) {
 		float X = k & 1 ? b->max[0] : b->min[0], Y = k & 2 ? b->max[1] : b->min[1], Z = k & 4 ? b->max[2] : b->min[2];
 		int rr;
@@ -5675,7 +5681,7 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
 		pf = pvs__f4_hmax2(pvs__f4_abs(a), pvs__f4_abs(c));
 	}
 #else
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		float lo = b->min[k] < 0.0f ? -b->min[k] : b->min[k], hi = b->max[k] < 0.0f ? -b->max[k] : b->max[k];
 		nan |= !(lo == lo) || !(hi == hi);
 		lo = lo > hi ? lo : hi;
@@ -5733,7 +5739,7 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 		pvs__cv base = pvs__raster_transform(r, b->min);
 		double e[3][4];
 		int ax, c;
-		for (ax = 0; ax < 3; ++ax) {
+		PVS__FOR3(ax) {
 			double len = (double)b->max[ax] - b->min[ax];
 			for (c = 0; c < 4; ++c) e[ax][c] = r->m[4 * c + ax] * len;
 		}
@@ -6005,8 +6011,7 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
 		pvs__cm_range(r, b, up, &i0, &j0, &i1, &j1);
 		total += (size_t)(i1 - i0 + 1) * (size_t)(j1 - j0 + 1);
 		if (total > 0xffffffffu)
-			return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0,
-							 "the cull map grid holds more than 2^32 object entries");
+			return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "the cull map grid holds more than 2^32 object entries");
 		for (jj = j0; jj <= j1; ++jj)
 			for (ii = i0; ii <= i1; ++ii) {
 				size_t c = (size_t)jj * r->cm_w + (size_t)ii;
@@ -6050,7 +6055,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 	a = desc->allocator;
 	r = (pvs_raster *)pvs__alloc(&a, sizeof(*r), 16);
 	if (!r) return PVS__OOM(err, "raster context");
-	memset(r, 0, sizeof(*r));
+	PVS__ZERO(*r);
 	r->allocator = a;
 	r->width = desc->width;
 	r->height = desc->height;
@@ -6142,13 +6147,13 @@ PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, flo
 		double e1[3], e2[3], n[3], d[3], dd, nd, front = 0.0, fr[3];
 		if (pvs_bitset_test(c->r->tri_seen, t)) continue;
 		pvs_bitset_set(c->r->tri_seen, t);
-		for (k = 0; k < 3; ++k) p[k] = c->s->positions + 3 * (size_t)c->s->indices[3 * (size_t)t + k];
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) p[k] = c->s->positions + 3 * (size_t)c->s->indices[3 * (size_t)t + k];
+		PVS__FOR3(k) {
 			e1[k] = (double)p[1][k] - p[0][k];
 			e2[k] = (double)p[2][k] - p[0][k];
 			d[k] = ((double)p[0][k] + p[1][k] + p[2][k]) / 3.0 - c->eye[k];
 		}
-		for (k = 0; k < 3; ++k)
+		PVS__FOR3(k)
 			fr[k] = c->fwd[0] * ((double)p[k][0] - c->eye[0]) + c->fwd[1] * ((double)p[k][1] - c->eye[1]) +
 				c->fwd[2] * ((double)p[k][2] - c->eye[2]);
 		front = pvs__dmax(fr[0], pvs__dmax(fr[1], fr[2]));
@@ -6207,10 +6212,9 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
 	if (s->object_count > r->max_objects || s->triangle_count > r->max_triangles ||
 		pvs_kdtree_sweep_scratch_size(s->object_tree) > r->sweep_size ||
 		pvs_kdtree_sweep_scratch_size(s->triangle_tree) > r->sweep_size)
-		return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0,
-						 "the context was created for a smaller scene (or none)");
+		return PVS__FAIL(err, PVS_ERROR_BUFFER_TOO_SMALL, "the context was created for a smaller scene (or none)");
 	res = pvs_camera_matrix(cam, (float)r->width / (float)r->height, m);
-	if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "unusable camera");
+	if (res != PVS_OK) return PVS__FAIL(err, res, "unusable camera");
 	pvs_raster_set_matrix(r, m);
 	memset(visible, 0, PVS_BITSET_WORDS(s->object_count) * sizeof(pvs_word));
 	memset(r->obj_done, 0, PVS_BITSET_WORDS(s->object_count) * sizeof(pvs_word));
@@ -6238,12 +6242,12 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	sc.n = 0;
 	sc.max_dist = pvs__cull_distance(s, p);
 	sc.near_d = cam->near_plane;
-	for (k = 0; k < 3; ++k) { sc.eye[k] = cam->eye[k]; sc.fwd[k] = cam->forward[k]; }
+	PVS__FOR3(k) { sc.eye[k] = cam->eye[k]; sc.fwd[k] = cam->forward[k]; }
 	len = sqrt(sc.fwd[0] * sc.fwd[0] + sc.fwd[1] * sc.fwd[1] + sc.fwd[2] * sc.fwd[2]);
-	for (k = 0; k < 3; ++k) sc.fwd[k] /= len;
+	PVS__FOR3(k) sc.fwd[k] /= len;
 	if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* ortho: matrix does near test */
 	memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
-	for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
+	PVS__FOR3(k) src.min[k] = src.max[k] = cam->eye[k];
 	pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
 	if (p->occluder_flags & PVS_CULL_SCENE_MESH) /* welded: walls fuse (Durand 2000 §3.3) */
 		pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
@@ -6304,14 +6308,14 @@ PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const 
 	uint32_t i, j, drawn = 0;
 	pvs_box src;
 	pvs__ground_axes(s->up_axis, &u, &v);
-	for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
+	PVS__FOR3(k) src.min[k] = src.max[k] = cam->eye[k];
 	for (i = 0; i < s->occluder_count; ++i) {
 		const pvs_occluder_desc *o = s->occluders + i;
 		float q[8][3];
 		if (pvs__box_distance2(&src, s->occluder_boxes + i) > dist * dist) continue;
 		if (o->kind == PVS_OCCLUDER_BOX) {
 			for (j = 0; j < 8; ++j)
-				for (k = 0; k < 3; ++k) q[j][k] = (j >> k) & 1u ? o->box.max[k] : o->box.min[k];
+				PVS__FOR3(k) q[j][k] = (j >> k) & 1u ? o->box.max[k] : o->box.min[k];
 			if (separate)
 				for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1, NULL);
 			else
@@ -6341,7 +6345,7 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
 	int k;
 	if (res != PVS_OK) return res;
 	p = pvs__cull_defaults(p, &q);
-	memset(&cc, 0, sizeof(cc));
+	PVS__ZERO(cc);
 	pvs_raster_clear(r);
 	if (p && p->occluder_triangle_count && p->occluder_positions) {
 		if (p->occluder_flags & PVS_CULL_OCCLUDER_MESH)
@@ -6359,7 +6363,7 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
 	cc.s = s;
 	cc.visible = visible;
 	cc.candidates = p ? p->candidates : NULL;
-	for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
+	PVS__FOR3(k) src.min[k] = src.max[k] = cam->eye[k];
 	/* Bittner 2002 §3.2: front to back; a hidden node culls its subtree */
 	pvs_kdtree_sweep(s->object_tree, &src, r->sweep, r->sweep_size, pvs__cull_visit, &cc);
 	if (stats) *stats = cc.st;
@@ -6598,7 +6602,7 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 	if (res != PVS_OK) return res;
 	if (p && p->facade_count && !p->facades)
 		return PVS__BAD_ARG(err, "facades must not be NULL");
-	memset(&st, 0, sizeof(st));
+	PVS__ZERO(st);
 	if (cam->fov_y > 0.0f) {
 		/* facades nearer than near plane (at frustum's widest angle) are clipped: hide nothing */
 		double ty = tan(0.5 * (double)cam->fov_y), tx = ty * (double)r->width / (double)r->height;
@@ -6930,7 +6934,7 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		if (!pvs__ot_reserve(t, top + 3)) { t->stack_count = top; return; }
 		q = PVS__OT_ITEM(t, top);
 		/* positive part unless c1 hides, negative (normal negated: distances exact) unless c0 hides */
-		for (i = 0; i < 3; ++i) nf[i] = -nd->n[i];
+		PVS__FOR3(i) nf[i] = -nd->n[i];
 		na = h1 ? 0 : pvs__ot_clip_n(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
 		nb = h0 ? 0 : pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 2));
 		/* items top..: c1's part, then c0's, as two pushes; unused slots above (still permutation) */
@@ -6981,7 +6985,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 	   becomes witness (pvs__ot25_witnessed) */
 	if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
 		int out1 = t->nodes[c1].kind == PVS__OT_OUT;
-		for (i = 0; i < 3; ++i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
+		PVS__FOR3(i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
 		if (pvs__ot_clip_n(q, nf, nd->p, 0.0, 0, PVS__OT_ITEM(t, top + 1)) >= 3)
 			pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top + 1));
 		return 1;
@@ -6990,7 +6994,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 		int h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
 		if (h0 && h1) { t->stack_count = top; return 0; }
 		if (h0 || h1) {
-			for (i = 0; i < 3; ++i) nf[i] = h0 ? nd->n[i] : -nd->n[i];
+			PVS__FOR3(i) nf[i] = h0 ? nd->n[i] : -nd->n[i];
 			r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
 			if (r == 0) { t->stack_count = top; return 0; }
 			if (r > 0) pvs__ot_swap(t, top, top + 1);
@@ -7000,7 +7004,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 	}
 	/* child without hidden-height bound (likely visible) first; other's clip deferred (pvs__ot_owed) */
 	first = t->nodes[c1].mr == DBL_MAX && t->nodes[c0].mr != DBL_MAX ? 1 : 0;
-	for (i = 0; i < 3; ++i) nf[i] = first ? nd->n[i] : -nd->n[i];
+	PVS__FOR3(i) nf[i] = first ? nd->n[i] : -nd->n[i];
 	r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
 	if (r < 0) pvs__ot_copy(PVS__OT_ITEM(t, top + 1), q); /* too many vertices: whole polygon (conservative) */
 	t->stack_node[top] = first ? c0 : c1;
@@ -7021,7 +7025,7 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	double nf[3];
 	int i, r;
 	t->stack_pend[top] = PVS__OT_NONE;
-	for (i = 0; i < 3; ++i) nf[i] = (pend & 1u) ? nd->n[i] : -nd->n[i];
+	PVS__FOR3(i) nf[i] = (pend & 1u) ? nd->n[i] : -nd->n[i];
 	if (top + 2 <= t->stack_cap) {
 		r = pvs__ot_clip_n(PVS__OT_ITEM(t, top), nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
 		if (r > 0) pvs__ot_swap(t, top, top + 1);
@@ -7103,7 +7107,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 			memcpy(en[i], cn[best], sizeof(en[i]));
 		}
 		/* convex: every vertex inside every edge plane */
-		for (i = 0; i < n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
+		for (i = 0; i < n; ++i) PVS__FOR3(k) cen[k] += q->v[i][k];
 		clen = sqrt(cen[0] * cen[0] + cen[1] * cen[1] + cen[2] * cen[2]);
 		for (i = 0; i < n; ++i) {
 			double s = (en[i][0] * cen[0] + en[i][1] * cen[1] + en[i][2] * cen[2]) / clen;
@@ -7204,7 +7208,7 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
 	double cen[3] = {0, 0, 0};
 	int i, k;
-	for (i = 0; i < q->n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
+	for (i = 0; i < q->n; ++i) PVS__FOR3(k) cen[k] += q->v[i][k];
 	for (i = 0; i < q->n && node != PVS__OT_NONE; ++i)
 		if (!q->mark[i]) node = pvs__ot_split_leaf(t, node, q->e[i], pvs__ot_side(cen, q->e[i]));
 	return node;
@@ -7450,7 +7454,7 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 		const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n);
 		area += a[0] * b[1] - a[1] * b[0];
 	}
-	if (!(fabs(area) > 0.0)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon has no area");
+	if (!(fabs(area) > 0.0)) return PVS__FAIL(err, PVS_ERROR_BAD_CELL, "the cell polygon has no area");
 	if (area < 0.0)
 		for (i = 0; i < n / 2; ++i) {
 			double tx = cell[2 * i], ty = cell[2 * i + 1];
@@ -7460,7 +7464,7 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 	for (i = 0; i < n; ++i) { /* convex: no right turn */
 		const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n), *c = cell + 2 * ((i + 2) % n);
 		if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0.0)
-			return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon is not convex");
+			return PVS__FAIL(err, PVS_ERROR_BAD_CELL, "the cell polygon is not convex");
 	}
 	return PVS_OK;
 }
@@ -7519,8 +7523,8 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	pvs_otree_stats st;
 	pvs__buf b[5];
 	int nbuf = 0;
-	memset(&st, 0, sizeof(st));
-	memset(&t, 0, sizeof(t));
+	PVS__ZERO(st);
+	PVS__ZERO(t);
 	if (stats) *stats = st;
 	if (!desc || !desc->cell || desc->cell_vertex_count < 3 || (desc->segment_count && !desc->segments))
 		return PVS__BAD_ARG(err, "desc, a cell of >= 3 vertices and the segments are required");
@@ -7645,7 +7649,7 @@ PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, u
 PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, double *lo, double *hi) {
 	int i;
 	*lo = DBL_MAX; *hi = -DBL_MAX;
-	for (i = 0; i < 3; ++i) {
+	PVS__FOR3(i) {
 		int j = i == 2 ? 0 : i + 1, p = i, q = j;
 		double h;
 		if (ts[q] < ts[p] || (ts[q] == ts[p] && th[q] < th[p])) { p = j; q = i; }
@@ -7687,11 +7691,11 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 		double gx[3], gy[3], h[3], best = 0.0, dx, dy, len, hmin, hmax, *q;
 		int bi = 0, bj = 1, m;
 		if (!pvs__tri_blocks(sc, t)) continue;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			const float *p = sc->positions + 3 * (size_t)sc->indices[3 * (size_t)t + k];
 			gx[k] = p[u]; gy[k] = p[v]; h[k] = p[up];
 		}
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			uint32_t l = k == 2 ? 0 : k + 1;
 			double ex = gx[l] - gx[k], ey = gy[l] - gy[k], e2 = ex * ex + ey * ey;
 			if (e2 > best) { best = e2; bi = (int)k; bj = (int)l; }
@@ -7733,7 +7737,7 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
 		uint32_t tri = vt[mem[i].index];
 		double *q = w->sv + 14 * (size_t)nm;
 		int ok = 1;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			const float *p = w->sc->positions + 3 * (size_t)w->sc->indices[3 * (size_t)tri + k];
 			double gx = p[w->u], gy = p[w->v];
 			if (!(fabs(-d[1] * gx + d[0] * gy - c) <= w->tol)) ok = 0;
@@ -7821,7 +7825,7 @@ PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 	pvs__key_index_sort(so, nm);
 	for (i = 0; i < nm; ++i) w->ins[i] = so[i].index;
 	for (i = 0; i < nm; ++i)
-		for (k = 0; k < 3; ++k) { so[ns].key = sv[14 * (size_t)i + k]; so[ns].index = 3 * i + k; ++ns; }
+		PVS__FOR3(k) { so[ns].key = sv[14 * (size_t)i + k]; so[ns].index = 3 * i + k; ++ns; }
 	pvs__key_index_sort(so, ns); /* vertex s: slab bounds */
 	for (slab = 0; slab + 1 < ns; ++slab) {
 		double sa = so[slab].key, sb = so[slab + 1].key, ga[2], gb[2];
@@ -7852,7 +7856,7 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
 	pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
 	pvs__buf b[13];
 	int nb = 0;
-	memset(&w, 0, sizeof(w));
+	PVS__ZERO(w);
 	w.sc = sc;
 	w.a = a;
 	w.out = out;
@@ -7864,7 +7868,7 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
 	w.up = sc->up_axis == 2 ? 2 : 1;
 	pvs__ground_axes((uint32_t)w.up, &w.u, &w.v);
 	if (nt)
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			if (fabs((double)sc->bounds.min[k]) > ext) ext = fabs((double)sc->bounds.min[k]);
 			if (fabs((double)sc->bounds.max[k]) > ext) ext = fabs((double)sc->bounds.max[k]);
 		}
@@ -8014,7 +8018,7 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0
 	double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
 	int i;
 	/* constraints alpha + beta u > margin; q0, q1: D at e's ends */
-	for (i = 0; i < 3; ++i) {
+	PVS__FOR3(i) {
 		double alpha, beta, margin, lim;
 		if (i < 2) {
 			double d = jd[3 + i];
@@ -8174,7 +8178,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 				continue;
 			leaf = pvs__ot_refine(t, node, q);
 			if (leaf == PVS__OT_NONE) break;
-			for (i = 0; i < q->n; ++i) for (c = 0; c < 3; ++c) cen[c] += q->v[i][c];
+			for (i = 0; i < q->n; ++i) PVS__FOR3(c) cen[c] += q->v[i][c];
 			/* lines through k before v0 (after v1) see only old members: primary side (lines crossing k beyond x, point
 			   at v0) has x on side of k's first end (at v1: second) */
 			for (c = 0; c < 2 && count >= PVS__OT25_SPLIT_MIN; ++c) {
@@ -8459,11 +8463,11 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
 	nf = desc->facade_count;
 	no = desc->object_count;
 	if ((uint64_t)nf + no >= 0xffffffffu)
-		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many facades and objects");
+		return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "too many facades and objects");
 	for (i = 0; i < 2; ++i)
 		if (!pvs__finite(desc->cell_min[i]) || !pvs__finite(desc->cell_max[i]) || desc->cell_min[i] > desc->cell_max[i])
-			return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell rectangle is not finite or has min > max");
-	if (!pvs__finite(desc->cell_top)) return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "cell_top is not finite");
+			return PVS__FAIL(err, PVS_ERROR_BAD_CELL, "the cell rectangle is not finite or has min > max");
+	if (!pvs__finite(desc->cell_top)) return PVS__FAIL(err, PVS_ERROR_NOT_FINITE, "cell_top is not finite");
 	for (i = 0; i < 5 * nf; ++i)
 		if (!pvs__finite(desc->facades[i]))
 			return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "facade %u is not finite", i / 5);
@@ -8572,7 +8576,7 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
 	pvs_result r;
 	if (!boxes) return PVS__OOM(err, "2.5D boxes");
 	pvs_visibility_25d_boxes(desc->facades, nf, desc->objects, no, boxes);
-	memset(&kd, 0, sizeof(kd));
+	PVS__ZERO(kd);
 	kd.boxes = boxes;
 	kd.count = nf + no;
 	kd.allocator = *al;
@@ -8611,8 +8615,8 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 	pvs_result r;
 	pvs_otree_stats st;
 	pvs__ot25_sweep w;
-	memset(&st, 0, sizeof(st));
-	memset(&t, 0, sizeof(t));
+	PVS__ZERO(st);
+	PVS__ZERO(t);
 	if (stats) *stats = st;
 	r = pvs__ot25_check(desc, visible_objects, err);
 	if (r != PVS_OK) return r;
@@ -8660,7 +8664,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 			pvs_bitset_set(visible_objects, i);
 		}
 	}
-	memset(&w, 0, sizeof(w));
+	PVS__ZERO(w);
 	w.t = &t;
 	w.desc = desc;
 	w.all = all;
@@ -8838,7 +8842,7 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 		if (ii != ij) {
 			double t = s[i] / (s[i] - s[j]);
 			if (m >= PVS__SV_MAXV) return out->n = 0, -1;
-			for (k = 0; k < 3; ++k) out->v[m][k] = in->v[i][k] + t * (in->v[j][k] - in->v[i][k]);
+			PVS__FOR3(k) out->v[m][k] = in->v[i][k] + t * (in->v[j][k] - in->v[i][k]);
 			if (ii) { /* leaving: new edge starts */
 				if (en) memcpy(out->e[m], en, sizeof(out->e[m]));
 				newedge = m;
@@ -8857,7 +8861,7 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 		int k;
 		pvs__sv_cross(out->v[newedge], out->v[(newedge + 1) % m], e);
 		if (!(pvs__sv_unit(e) > 0.0)) return out->n = 0, 0;
-		for (i = 0; i < m; ++i) for (k = 0; k < 3; ++k) c[k] += out->v[i][k];
+		for (i = 0; i < m; ++i) PVS__FOR3(k) c[k] += out->v[i][k];
 		if (pvs__sv_dot(e, c) < 0.0) { e[0] = -e[0]; e[1] = -e[1]; e[2] = -e[2]; }
 	}
 	return m;
@@ -8867,9 +8871,9 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 PVS__STATIC void pvs__sv_eye_points(const pvs_otree *o, const float *const *p, int n, double (*v)[3], double c[3],
 									double nrm[3]) {
 	int i, k;
-	for (k = 0; k < 3; ++k) c[k] = nrm[k] = 0.0;
+	PVS__FOR3(k) c[k] = nrm[k] = 0.0;
 	for (i = 0; i < n; ++i)
-		for (k = 0; k < 3; ++k) { v[i][k] = (double)p[i][k] - o->eye[k]; c[k] += v[i][k] / n; }
+		PVS__FOR3(k) { v[i][k] = (double)p[i][k] - o->eye[k]; c[k] += v[i][k] / n; }
 	for (i = 0; i < n; ++i) {
 		const double *u = v[i], *w = v[(i + 1) % n];
 		nrm[0] += (u[1] - w[1]) * (u[2] + w[2]);
@@ -8891,7 +8895,7 @@ PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs_
 	a.n = n;
 	pvs__sv_eye_points(o, p, n, a.v, c, nrm);
 	for (i = 0; i < n; ++i)
-		for (k = 0; k < 3; ++k)
+		PVS__FOR3(k)
 			if (fabs(a.v[i][k]) > size) size = fabs(a.v[i][k]);
 	len = pvs__sv_unit(nrm);
 	if (!(len > 1e-12 * size * size)) return 0;
@@ -8931,8 +8935,8 @@ PVS__STATIC uint32_t pvs__sv_fragment(pvs_otree *o, const pvs__svpoly *q, const 
 		memcpy(v->f, q->v[i], sizeof(v->f));
 		pvs__sv_cross(q->v[i], q->v[(i + 1) % q->n], v->m);
 		pvs__sv_unit(v->m);
-		if (pvs__sv_dot(v->m, q->v[(i + 2) % q->n]) < 0.0) for (k = 0; k < 3; ++k) v->m[k] = -v->m[k];
-		for (k = 0; k < 3; ++k) if (fabs(q->v[i][k]) > size) size = fabs(q->v[i][k]);
+		if (pvs__sv_dot(v->m, q->v[(i + 2) % q->n]) < 0.0) PVS__FOR3(k) v->m[k] = -v->m[k];
+		PVS__FOR3(k) if (fabs(q->v[i][k]) > size) size = fabs(q->v[i][k]);
 	}
 	f->tol = 1e-10 * (o->tol * 1e10 + 3.0 * size + fabs(plane[3]));
 	o->vert_count += (uint32_t)q->n;
@@ -8989,7 +8993,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 			} else {
 				double nf[2][3];
 				pvs__svpoly qq = *q;
-				for (i = 0; i < 3; ++i) { nf[1][i] = nd->n[i]; nf[0][i] = -nd->n[i]; }
+				PVS__FOR3(i) { nf[1][i] = nd->n[i]; nf[0][i] = -nd->n[i]; }
 				for (i = 1; i >= 0; --i) {
 					int r = pvs__sv_clip(&qq, nf[i], 0.0, nf[i], 1, &part);
 					if (r < 0 || (r >= 3 && sp >= PVS__SV_STACK)) o->info.budget_exceeded = 1;
@@ -9056,7 +9060,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 	if (smax < -t) return PVS__SV_I;
 	if (!(o->flags & PVS_OTREE_PLANE_ONLY)) {
 		/* separating axes: box axes, pyramid sides, base, edge pairs */
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			double plo = 0.0, phi = 0.0;
 			for (i = 0; i < f->count; ++i) {
 				if (v[i].f[k] < plo) plo = v[i].f[k];
@@ -9078,7 +9082,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 			}
 			if (smin > phi + t || smax < plo - t) return PVS__SV_I;
 		}
-		for (k = 0; k < 3; ++k)
+		PVS__FOR3(k)
 			for (i = 0; i < 2 * f->count; ++i) {
 				double edge[3], ax[3], plo, phi, len;
 				if (i < f->count) memcpy(edge, v[i].f, sizeof(edge));
@@ -9126,7 +9130,7 @@ PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 	double lo[3], hi[3];
 	int k, cross = 0;
 	uint32_t r;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		lo[k] = (double)b->min[k] - o->eye[k];
 		hi[k] = (double)b->max[k] - o->eye[k];
 	}
@@ -9156,7 +9160,7 @@ PVS__STATIC void pvs__sv_offer(pvs_otree *o, uint32_t k, double key, uint32_t a,
 PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float q[4][3], const float *p[4]) {
 	int k, n;
 	if (b == PVS__SV_TRIANGLE) {
-		for (k = 0; k < 3; ++k) p[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)a + k];
+		PVS__FOR3(k) p[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)a + k];
 		return 3;
 	} else {
 		const pvs_occluder_desc *oc = s->occluders + a;
@@ -9164,7 +9168,7 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
 			static const uint8_t f[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
 											{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
 			for (n = 0; n < 4; ++n)
-				for (k = 0; k < 3; ++k) q[n][k] = (f[b][n] >> k) & 1u ? oc->box.max[k] : oc->box.min[k];
+				PVS__FOR3(k) q[n][k] = (f[b][n] >> k) & 1u ? oc->box.max[k] : oc->box.min[k];
 		} else {
 			int u, v;
 			pvs__ground_axes(s->up_axis, &u, &v);
@@ -9251,7 +9255,7 @@ PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, u
 		pvs_box eyebox;
 		uint8_t near = 0;
 		int k;
-		for (k = 0; k < 3; ++k) eyebox.min[k] = eyebox.max[k] = (float)o->eye[k];
+		PVS__FOR3(k) eyebox.min[k] = eyebox.max[k] = (float)o->eye[k];
 		if (pvs__box_distance2(&eyebox, box) <= o->lambda * o->lambda) near = 4;
 		for (i = 0; i < nd->u.count; ++i) pvs__sv_touch(o, items[i], (uint8_t)(flag | near));
 		return;
@@ -9348,7 +9352,7 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
 	if (!desc || !out || !desc->scene)
 		return PVS__BAD_ARG(err, "desc, desc->scene and out_otree must not be NULL");
 	if (!pvs__finite(desc->aspect) || desc->aspect < 0.0f)
-		return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "aspect must be finite and >= 0");
+		return PVS__FAIL(err, PVS_ERROR_NOT_FINITE, "aspect must be finite and >= 0");
 	if (desc->max_occluders > 65536)
 		return PVS__BAD_ARG(err, "max_occluders %u is over 65536", desc->max_occluders);
 	if (desc->node_budget && (desc->node_budget < 64 || desc->node_budget > (1u << 24)))
@@ -9357,7 +9361,7 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
 	a = desc->allocator;
 	o = (pvs_otree *)pvs__alloc(&a, sizeof(*o), 16);
 	if (!o) return PVS__OOM(err, "otree context");
-	memset(o, 0, sizeof(*o));
+	PVS__ZERO(*o);
 	o->allocator = a;
 	o->flags = desc->flags;
 	o->aspect = desc->aspect > 0.0f ? desc->aspect : 1.0f;
@@ -9419,16 +9423,16 @@ PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_cam
 	double u[3], r[3], len, ty, tx, size = 0.0;
 	uint32_t k;
 	int j;
-	for (j = 0; j < 3; ++j) { o->eye[j] = cam->eye[j]; o->fw[j] = cam->forward[j]; u[j] = cam->up[j]; }
+	PVS__FOR3(j) { o->eye[j] = cam->eye[j]; o->fw[j] = cam->forward[j]; u[j] = cam->up[j]; }
 	pvs__sv_unit(o->fw);
 	len = pvs__sv_dot(o->fw, u);
-	for (j = 0; j < 3; ++j) u[j] -= len * o->fw[j];
+	PVS__FOR3(j) u[j] -= len * o->fw[j];
 	pvs__sv_unit(u);
 	pvs__sv_cross(o->fw, u, r);
 	ty = tan(0.5 * (double)cam->fov_y);
 	tx = ty * o->aspect;
 	o->near_d = cam->near_plane;
-	for (j = 0; j < 3; ++j) {
+	PVS__FOR3(j) {
 		o->fr[0][j] = o->fw[j];
 		o->fr[1][j] = tx * o->fw[j] - r[j];
 		o->fr[2][j] = tx * o->fw[j] + r[j];
@@ -9437,7 +9441,7 @@ PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_cam
 	}
 	o->fr[0][3] = -o->near_d;
 	for (k = 1; k < 5; ++k) { pvs__sv_unit(o->fr[k]); o->fr[k][3] = 0.0; }
-	for (j = 0; j < 3; ++j) {
+	PVS__FOR3(j) {
 		double a = fabs((double)s->bounds.min[j] - o->eye[j]), b = fabs((double)s->bounds.max[j] - o->eye[j]);
 		if (s->bounds.min[j] > s->bounds.max[j]) a = b = 0.0;
 		size += (a > b ? a : b);
@@ -9454,7 +9458,7 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
 		pvs__svpoly q;
 		double plane[4];
 		int bad = 0;
-		for (j = 0; j < 3; ++j) {
+		PVS__FOR3(j) {
 			uint32_t vi = p->occluder_indices ? p->occluder_indices[3 * (size_t)i + (uint32_t)j] : 3 * i + (uint32_t)j;
 			if (vi >= p->occluder_vertex_count) { bad = 1; break; }
 			pt[j] = p->occluder_positions + 3 * (size_t)vi;
@@ -9476,7 +9480,7 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
 	pvs_box src;
 	int j;
 	if (p->scene_volumes) kk = o->max_occluders;
-	for (j = 0; j < 3; ++j) src.min[j] = src.max[j] = cam->eye[j];
+	PVS__FOR3(j) src.min[j] = src.max[j] = cam->eye[j];
 	if (p->scene_occluders) {
 		if (o->have_prev) {
 			for (i = 0; i < o->prev_count; ++i)
@@ -9556,13 +9560,13 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 		return PVS__BAD_ARG(err, "otree, scene, camera and visible must not be NULL");
 	if (s->object_count > o->max_objects || s->triangle_count > o->max_triangles ||
 		s->object_tree->node_count > o->max_kd_nodes || pvs_kdtree_sweep_scratch_size(s->triangle_tree) > o->sweep_size)
-		return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "the context was created for a smaller scene");
+		return PVS__FAIL(err, PVS_ERROR_BUFFER_TOO_SMALL, "the context was created for a smaller scene");
 	res = pvs_camera_matrix(cam, o->aspect, m);
-	if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "unusable camera");
+	if (res != PVS_OK) return PVS__FAIL(err, res, "unusable camera");
 	if (cam->fov_y == 0.0f)
-		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "an orthographic camera: shadow volumes need an eye point");
-	memset(&o->info, 0, sizeof(o->info));
-	memset(&o->st, 0, sizeof(o->st));
+		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "an orthographic camera: shadow volumes need an eye point");
+	PVS__ZERO(o->info);
+	PVS__ZERO(o->st);
 	memset(visible, 0, PVS_BITSET_WORDS(s->object_count) * sizeof(pvs_word));
 	pvs__sv_frame_begin(o, s);
 	pvs__sv_frustum(o, s, cam);
@@ -9704,7 +9708,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 	}
 	for (k = 0; k < nl; ++k) { /* level k's tree, as pvs_visibility_25d builds it */
 		pvs_visibility_25d_desc d;
-		memset(&d, 0, sizeof(d));
+		PVS__ZERO(d);
 		d.facades = ot->facades;
 		d.facade_count = ot->level_end[k];
 		d.objects = ot->objects;
@@ -9733,7 +9737,7 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 	uint32_t i, k, no = ot->object_count, used = 0, below = 0;
 	pvs_result r = PVS_OK;
 	pvs__ground_axes((uint32_t)up, &u, &v);
-	memset(&d, 0, sizeof(d));
+	PVS__ZERO(d);
 	d.cell_min[0] = c->min[u]; d.cell_min[1] = c->min[v];
 	d.cell_max[0] = c->max[u]; d.cell_max[1] = c->max[v];
 	d.cell_top = c->max[up];
@@ -9813,7 +9817,7 @@ PVS__STATIC pvs_result pvs__otree_bake_prepare(pvs__bake_env *env, const pvs_bak
 	pvs__otree_bake *ot = (pvs__otree_bake *)pvs__alloc(&env->allocator, sizeof(pvs__otree_bake), 16);
 	*state = ot;
 	if (!ot) return PVS__OOM(err, "otree facades");
-	memset(ot, 0, sizeof(*ot));
+	PVS__ZERO(*ot);
 	ot->allocator = env->allocator;
 	ot->object_count = env->object_count;
 	ot->budget = desc->otree.node_budget;
@@ -9853,7 +9857,7 @@ PVS__STATIC const pvs__bake_method pvs__otree_method = {
 
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
 	const pvs__otree_bake *ot = b ? (const pvs__otree_bake *)pvs__bake_method_state(b, PVS_METHOD_OTREE) : NULL;
-	memset(info, 0, sizeof(*info));
+	PVS__ZERO(*info);
 	if (!ot) return;
 	info->prepared = 1;
 	info->vertical_triangles = ot->vertical;
@@ -9940,21 +9944,21 @@ PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const doubl
 							  const double *d) {
 	double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
 	int i, j;
-	for (i = 0; i < 3; ++i) { v[0][i] = a[i] - c[i]; v[1][i] = b[i] - c[i]; v[2][i] = d[i] - c[i]; }
-	for (i = 0; i < 3; ++i) {
+	PVS__FOR3(i) { v[0][i] = a[i] - c[i]; v[1][i] = b[i] - c[i]; v[2][i] = d[i] - c[i]; }
+	PVS__FOR3(i) {
 		lo = hi = v[0][i];
 		for (j = 1; j < 3; ++j) { if (v[j][i] < lo) lo = v[j][i]; if (v[j][i] > hi) hi = v[j][i]; }
 		if (lo > hs[i] || hi < -hs[i]) return 0;
 	}
-	for (i = 0; i < 3; ++i) { e[0][i] = v[1][i] - v[0][i]; e[1][i] = v[2][i] - v[1][i]; e[2][i] = v[0][i] - v[2][i]; }
+	PVS__FOR3(i) { e[0][i] = v[1][i] - v[0][i]; e[1][i] = v[2][i] - v[1][i]; e[2][i] = v[0][i] - v[2][i]; }
 	n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
 	n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
 	n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
 	p = n[0] * v[0][0] + n[1] * v[0][1] + n[2] * v[0][2];
 	rad = hs[0] * pvs__dabs(n[0]) + hs[1] * pvs__dabs(n[1]) + hs[2] * pvs__dabs(n[2]);
 	if (p > rad * (1.0 + 1e-9) + 1e-300 || p < -rad * (1.0 + 1e-9) - 1e-300) return 0;
-	for (i = 0; i < 3; ++i) /* edge i x box axis j */
-		for (j = 0; j < 3; ++j) {
+	PVS__FOR3(i) /* edge i x box axis j */
+		PVS__FOR3(j) {
 			double ax[3] = {0, 0, 0};
 			int k;
 			ax[(j + 1) % 3] = -e[i][(j + 2) % 3];
@@ -10004,7 +10008,7 @@ PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, co
 	uint32_t i, j;
 	switch (oc->kind) {
 	case PVS_OCCLUDER_BOX:
-		for (k = 0; k < 3; ++k)
+		PVS__FOR3(k)
 			if (lo[k] < oc->box.min[k] || hi[k] > oc->box.max[k]) return 0;
 		return 1;
 	case PVS_OCCLUDER_CONVEX:
@@ -10049,7 +10053,7 @@ PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *b
 									   const uint8_t *keep, pvs__obvh *h) {
 	uint32_t i, n = 0, *stack = NULL, sp = 0;
 	pvs__obvh_key *keys = NULL;
-	memset(h, 0, sizeof(*h));
+	PVS__ZERO(*h);
 	h->object_count = count;
 	h->items = PVS__ALLOC_N(al, uint32_t, count ? count : 1);
 	h->leaf_of = PVS__ALLOC_N(al, uint32_t, count ? count : 1);
@@ -10078,10 +10082,10 @@ PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *b
 		pvs_box bb, cb;
 		int kk;
 		bb = boxes[h->items[f]];
-		for (kk = 0; kk < 3; ++kk) cb.min[kk] = cb.max[kk] = 0.5f * (bb.min[kk] + bb.max[kk]);
+		PVS__FOR3(kk) cb.min[kk] = cb.max[kk] = 0.5f * (bb.min[kk] + bb.max[kk]);
 		for (k = f; k < f + c; ++k) {
 			const pvs_box *ob = boxes + h->items[k];
-			for (kk = 0; kk < 3; ++kk) {
+			PVS__FOR3(kk) {
 				float mm = 0.5f * (ob->min[kk] + ob->max[kk]);
 				if (ob->min[kk] < bb.min[kk]) bb.min[kk] = ob->min[kk];
 				if (ob->max[kk] > bb.max[kk]) bb.max[kk] = ob->max[kk];
@@ -10126,7 +10130,7 @@ PVS__STATIC void pvs__obvh_free(const pvs_allocator *a, pvs__obvh *h) {
 	PVS__FREE_N(a, h->leaf_of, h->object_count ? h->object_count : 1);
 	PVS__FREE_N(a, h->nodes, 2 * (size_t)h->item_count + 1);
 	PVS__FREE_N(a, h->count_below, 2 * (size_t)h->item_count + 1);
-	memset(h, 0, sizeof(*h));
+	PVS__ZERO(*h);
 }
 
 PVS__STATIC pvs_result pvs__occluders_hierarchies(pvs_occluders *o) {
@@ -10191,7 +10195,7 @@ PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, doub
 		if ((da >= 0.0) != (db >= 0.0)) {
 			double t = da / (da - db);
 			int q;
-			for (q = 0; q < 3; ++q) out[3 * r + q] = a[q] + t * (b[q] - a[q]);
+			PVS__FOR3(q) out[3 * r + q] = a[q] + t * (b[q] - a[q]);
 			out[3 * r + k] = c; /* exactly on plane */
 			++r;
 		}
@@ -10339,7 +10343,7 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 	double o[3], bd[3], r = 0.0, zlo, zhi, w0, w1, w2;
 	int i, pos = 0, neg = 0, unsure = 0;
 	p[0] = a; p[1] = b; p[2] = c;
-	for (i = 0; i < 3; ++i) { /* zero-length projected edge: segment or point */
+	PVS__FOR3(i) { /* zero-length projected edge: segment or point */
 		const float *q = p[i], *s = p[(i + 1) % 3], *t = p[(i + 2) % 3];
 		if (q[u] == s[u] && q[v] == s[v]) {
 			if (t[u] == q[u] && t[v] == q[v]) return pu == (double)q[u] && pv == (double)q[v] ? -1 : 0;
@@ -10347,7 +10351,7 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 			return pvs__dabs(o[0]) <= bd[0] ? -1 : 0;
 		}
 	}
-	for (i = 0; i < 3; ++i) {
+	PVS__FOR3(i) {
 		const float *q = p[i], *s = p[(i + 1) % 3];
 		o[i] = pvs__vx_orient(q[u], q[v], s[u], s[v], pu, pv, bd + i);
 		if (pvs__dabs(o[i]) <= bd[i]) unsure = 1;
@@ -10358,7 +10362,7 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 	if (unsure) return -1;
 	/* inside: barycentric weights |o| (o[1], o[2], o[0] for a, b, c), each within relative error r: weighted mean
 	   height errs by <= range 2r / (1 - r) */
-	for (i = 0; i < 3; ++i) r = pvs__dmax(r, bd[i] / pvs__dabs(o[i]));
+	PVS__FOR3(i) r = pvs__dmax(r, bd[i] / pvs__dabs(o[i]));
 	if (r >= 0.25) return -1;
 	w0 = pvs__dabs(o[1]); w1 = pvs__dabs(o[2]); w2 = pvs__dabs(o[0]);
 	*z = (w0 * a[up] + w1 * b[up] + w2 * c[up]) / (w0 + w1 + w2);
@@ -10411,13 +10415,13 @@ PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint
 	PVS__FREE_N(a, t->comp_first, (size_t)triangle_count + 2);
 	PVS__FREE_N(a, t->open_first, (size_t)triangle_count + 2);
 	PVS__FREE_N(a, t->open_edges, (size_t)(t->open_count ? t->open_count : 1) * 6);
-	memset(t, 0, sizeof(*t));
+	PVS__ZERO(*t);
 }
 
 /* 1 if flat at ground level g (left out: bounds nothing above g). */
 PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) {
 	uint32_t up = s->up_axis, k;
-	for (k = 0; k < 3; ++k)
+	PVS__FOR3(k)
 		if (s->positions[3 * (size_t)s->indices[3 * (size_t)t + k] + up] != g) return 0;
 	return 1;
 }
@@ -10426,7 +10430,7 @@ PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) 
 PVS__STATIC void pvs__weld(const pvs_scene *s, pvs__vx_vkey *vk, uint32_t *canon) {
 	uint32_t i, k;
 	for (i = 0; i < s->vertex_count; ++i) {
-		for (k = 0; k < 3; ++k) vk[i].p[k] = s->positions[3 * (size_t)i + k];
+		PVS__FOR3(k) vk[i].p[k] = s->positions[3 * (size_t)i + k];
 		vk[i].i = i;
 	}
 	PVS_QSORT(vk, s->vertex_count, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
@@ -10442,7 +10446,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	uint32_t *canon = NULL, *parent = NULL, *cid = NULL;
 	size_t e0, e1;
 	pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
-	memset(t, 0, sizeof(*t));
+	PVS__ZERO(*t);
 	vk = PVS__ALLOC_N(a, pvs__vx_vkey, nv ? nv : 1);
 	canon = PVS__ALLOC_N(a, uint32_t, nv ? nv : 1);
 	ed = PVS__ALLOC_N(a, pvs__vx_edge, (size_t)(nt ? nt : 1) * 3);
@@ -10456,7 +10460,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	for (i = 0; i < nt; ++i) {
 		parent[i] = i;
 		if (pvs__vx_flat_on_ground(s, i, g) || !pvs__tri_blocks(s, i)) { parent[i] = 0xffffffffu; continue; }
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			uint32_t x = canon[s->indices[3 * (size_t)i + k]], y = canon[s->indices[3 * (size_t)i + (k + 1) % 3]];
 			if (x == y) continue;
 			ed[ne].key = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
@@ -10602,7 +10606,7 @@ PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const ui
 							 int test) {
 	uint32_t r0[3], r1[3], a, b, c;
 	int kk;
-	for (kk = 0; kk < 3; ++kk) {
+	PVS__FOR3(kk) {
 		pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
 		if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
 		if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
@@ -10644,7 +10648,7 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 					for (i = 0; i < d[0]; ++i) {
 						int face = 0;
 						idx[0] = i; idx[1] = j; idx[2] = k;
-						for (kk = 0; kk < 3; ++kk)
+						PVS__FOR3(kk)
 							face |= idx[kk] + 1 == d[kk] || (idx[kk] == 0 && (kk != up || lo[up] > 1));
 						if (face) pvs__vx_push_entry(bits, queue, &qt, i + stride[1] * j + stride[2] * k);
 					}
@@ -10700,7 +10704,7 @@ PVS__STATIC void pvs__vx_touch_visit(void *user, const uint32_t idx[3]) {
 	} else if (tv->o->state[pvs__vx_index(tv->o, idx[0], idx[1], idx[2])] & (PVS__VX_TOUCHED | PVS__VX_GROUND)) {
 		return;
 	}
-	for (kk = 0; kk < 3; ++kk) cc[kk] = tv->gr->origin[kk] + (idx[kk] + 0.5) * tv->gr->h;
+	PVS__FOR3(kk) cc[kk] = tv->gr->origin[kk] + (idx[kk] + 0.5) * tv->gr->h;
 	if (pvs__tri_box(cc, tv->hs, tv->p[0], tv->p[1], tv->p[2])) {
 		if (tv->bits) tv->bits[x] |= PVS__G_T;
 		if (tv->o) tv->o->state[pvs__vx_index(tv->o, idx[0], idx[1], idx[2])] |= PVS__VX_TOUCHED;
@@ -10709,8 +10713,8 @@ PVS__STATIC void pvs__vx_touch_visit(void *user, const uint32_t idx[3]) {
 
 PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3][3]) {
 	int e, kk;
-	for (e = 0; e < 3; ++e)
-		for (kk = 0; kk < 3; ++kk)
+	PVS__FOR3(e)
+		PVS__FOR3(kk)
 			p[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (size_t)e] + (size_t)kk];
 }
 
@@ -10797,7 +10801,7 @@ PVS__STATIC void pvs__vx_flood_touched(const pvs__vx_fbox *fb, int mark_touched)
 	static const int xyz[3] = {0, 1, 2};
 	pvs__vx_touch tv;
 	uint32_t t;
-	memset(&tv, 0, sizeof(tv));
+	PVS__ZERO(tv);
 	tv.o = mark_touched ? fb->o : NULL;
 	tv.gr = fb->gr;
 	tv.bits = fb->fl->bits;
@@ -10811,7 +10815,7 @@ PVS__STATIC void pvs__vx_flood_touched(const pvs__vx_fbox *fb, int mark_touched)
 }
 
 PVS__STATIC void pvs__vx_flood_colvisit(const pvs__vx_fbox *fb, pvs__vx_colvisit *cv, int axes[3]) {
-	memset(cv, 0, sizeof(*cv));
+	PVS__ZERO(*cv);
 	cv->gr = fb->gr;
 	cv->bits = fb->fl->bits;
 	cv->col = fb->fl->col;
@@ -10862,7 +10866,7 @@ PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
 		for (t = tp->comp_first[fb->comp]; t < tp->comp_first[fb->comp + 1]; ++t) {
 			uint32_t tri = tp->tris[t];
 			double pt[3][3];
-			for (k = 0; k < 3; ++k) cv.tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + k];
+			PVS__FOR3(k) cv.tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + k];
 			pvs__vx_tri_points(s, tri, pt);
 			pvs__vx_scan(fb->gr, pt[0], 3, axes, 2, fb->m, fb->lo, fb->hi, pvs__vx_cross_visit, &cv);
 		}
@@ -10898,7 +10902,7 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
 	double cc[3], hs[3];
 	uint32_t t;
 	int kk, touches = 0;
-	for (kk = 0; kk < 3; ++kk) {
+	PVS__FOR3(kk) {
 		cc[kk] = 0.5 * ((double)cb->min[kk] + cb->max[kk]);
 		hs[kk] = 0.5 * ((double)cb->max[kk] - cb->min[kk]) + fb->m;
 	}
@@ -10906,8 +10910,8 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
 		uint32_t tri = tp->tris[t], e;
 		double pt[3][3];
 		int out = 0;
-		for (e = 0; e < 3; ++e)
-			for (kk = 0; kk < 3; ++kk) pt[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + e] + kk];
+		PVS__FOR3(e)
+			PVS__FOR3(kk) pt[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + e] + kk];
 		for (kk = 0; kk < 3 && !out; ++kk)
 			out = pvs__dmin(pt[0][kk], pvs__dmin(pt[1][kk], pt[2][kk])) > cc[kk] + hs[kk] ||
 				  pvs__dmax(pt[0][kk], pvs__dmax(pt[1][kk], pt[2][kk])) < cc[kk] - hs[kk];
@@ -10933,7 +10937,7 @@ PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, 
 	if (maybe) touches = pvs__vx_flood_cell_touches(fb, cb);
 	if (!touches && out_w0) wc = 0;
 	if (!touches && !out_w0) {
-		for (kk = 0; kk < 3; ++kk) {
+		PVS__FOR3(kk) {
 			pvs__vx_grange(fb->gr, kk, cb->min[kk], cb->max[kk], -fb->m, s0 + kk, s1 + kk);
 			if (s0[kk] < lo[kk]) s0[kk] = lo[kk];
 			if (s1[kk] > hi[kk]) s1[kk] = hi[kk];
@@ -10969,13 +10973,13 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
 				int kk, out_w0 = 0, stick = 0;
 				if (fl->stamp[cid] >= stamp || fl->excluded[cid]) continue;
 				fl->stamp[cid] = stamp;
-				for (kk = 0; kk < 3; ++kk) {
+				PVS__FOR3(kk) {
 					pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
 					if (r0[kk] > r1[kk] || r1[kk] < lo[kk] || r0[kk] > hi[kk]) break;
 				}
 				if (kk < 3) continue;
 				fl->stamp[cid] = stamp + 1;
-				for (kk = 0; kk < 3; ++kk) {
+				PVS__FOR3(kk) {
 					if (r0[kk] < lo[kk] || r1[kk] > hi[kk]) stick = 1;
 					if (r1[kk] > hi[kk] || (r0[kk] < lo[kk] && ((uint32_t)kk != up || lo[up] > 1))) out_w0 = 1;
 					if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
@@ -11048,7 +11052,7 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
 	size_t qh = 0, qt = 0;
 	uint32_t k;
 	int ext;
-	memset(&fb, 0, sizeof(fb));
+	PVS__ZERO(fb);
 	fb.o = o;
 	fb.s = o->scene;
 	fb.gr = gr;
@@ -11060,7 +11064,7 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
 	fb.fl = fl;
 	fb.up = fb.s->up_axis;
 	pvs__ground_axes(fb.up, &fb.u, &fb.v);
-	for (k = 0; k < 3; ++k) fb.d[k] = hi[k] - lo[k] + 1;
+	PVS__FOR3(k) fb.d[k] = hi[k] - lo[k] + 1;
 	fb.stride[0] = 1;
 	fb.stride[1] = fb.d[0];
 	fb.stride[2] = (size_t)fb.d[0] * fb.d[1];
@@ -11081,7 +11085,7 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
 	size_t stride[3];
 	const uint8_t *bits = fl->bits;
 	int ext = pvs__vx_flood_component(o, &o->grid, tp, comp, lo, hi, m, fl, 1);
-	for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+	PVS__FOR3(k) d[k] = hi[k] - lo[k] + 1;
 	stride[1] = d[0];
 	stride[2] = (size_t)d[0] * d[1];
 	for (k = 0; k < d[2]; ++k)
@@ -11124,24 +11128,24 @@ PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, i
 	static const double nu[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, nv[8] = {0, 0, -1, 1, -1, 1, 1, -1};
 	double a[16][3], b[16][3], best = DBL_MAX;
 	int n = 3, side, i, k;
-	for (i = 0; i < 3; ++i)
-		for (k = 0; k < 3; ++k) a[i][k] = p[i][k];
+	PVS__FOR3(i)
+		PVS__FOR3(k) a[i][k] = p[i][k];
 	for (side = 0; side < 8 && n > 0; ++side) { /* keep nu u + nv v <= lim */
 		int m = 0;
 		for (i = 0; i < n; ++i) {
 			const double *c = a[i], *d = a[(i + 1) % n];
 			double fc = lim[side] - (nu[side] * c[u] + nv[side] * c[v]),
 				   fd = lim[side] - (nu[side] * d[u] + nv[side] * d[v]);
-			if (fc >= 0.0) { for (k = 0; k < 3; ++k) b[m][k] = c[k]; ++m; }
+			if (fc >= 0.0) { PVS__FOR3(k) b[m][k] = c[k]; ++m; }
 			if ((fc >= 0.0) != (fd >= 0.0)) {
 				double t = fc / (fc - fd);
-				for (k = 0; k < 3; ++k) b[m][k] = c[k] + t * (d[k] - c[k]);
+				PVS__FOR3(k) b[m][k] = c[k] + t * (d[k] - c[k]);
 				++m;
 			}
 		}
 		n = m;
 		for (i = 0; i < n; ++i)
-			for (k = 0; k < 3; ++k) a[i][k] = b[i][k];
+			PVS__FOR3(k) a[i][k] = b[i][k];
 	}
 	for (i = 0; i < n; ++i) best = pvs__dmin(best, a[i][up]);
 	return best;
@@ -11165,7 +11169,7 @@ PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
 	double e1[3], e2[3], n[3], mag;
 	int k;
 	tv->zlo = pvs__dmin(a[up], pvs__dmin(b[up], c[up]));
-	for (k = 0; k < 3; ++k) { e1[k] = b[k] - a[k]; e2[k] = c[k] - a[k]; }
+	PVS__FOR3(k) { e1[k] = b[k] - a[k]; e2[k] = c[k] - a[k]; }
 	n[0] = e1[1] * e2[2] - e1[2] * e2[1];
 	n[1] = e1[2] * e2[0] - e1[0] * e2[2];
 	n[2] = e1[0] * e2[1] - e1[1] * e2[0];
@@ -11213,7 +11217,7 @@ PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo
 	pvs__ground_axes(up, &u, &v);
 	nsub = (size_t)(sq1[u] - sq0[u] + 1) * (sq1[v] - sq0[v] + 1);
 	for (a = 0; a < nsub; ++a) tmin[a] = FLT_MAX;
-	memset(&tv, 0, sizeof(tv));
+	PVS__ZERO(tv);
 	tv.gr = &cm->grid;
 	tv.u = u;
 	tv.v = v;
@@ -11248,7 +11252,7 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 	float *runh = NULL, *tmin = NULL;
 	pvs__ground_axes(up, &u, &v);
 	ext = pvs__vx_flood_component(o, gk, tp, comp, lo, hi, m, fl, 0);
-	for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+	PVS__FOR3(k) d[k] = hi[k] - lo[k] + 1;
 	stride[0] = 1;
 	stride[1] = d[0];
 	stride[2] = (size_t)d[0] * d[1];
@@ -11634,7 +11638,7 @@ PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
 	double g = o->ground, qz = 0.25 * cm->grid.h;
 	pvs__vx_chainwork w;
 	pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
-	memset(&w, 0, sizeof(w));
+	PVS__ZERO(w);
 	w.o = o;
 	w.label = PVS__ALLOC_N(al, uint32_t, n ? n : 1);
 	w.queue = PVS__ALLOC_N(al, uint32_t, n ? n : 1);
@@ -11722,22 +11726,22 @@ PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx
 	for (comp = 0, n = 0; comp < tp->comp_count; ++comp) {
 		double lo[3], hi[3];
 		if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
-		for (k = 0; k < 3; ++k) { lo[k] = DBL_MAX; hi[k] = -DBL_MAX; }
+		PVS__FOR3(k) { lo[k] = DBL_MAX; hi[k] = -DBL_MAX; }
 		for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t)
-			for (q = 0; q < 3; ++q)
-				for (k = 0; k < 3; ++k) {
+			PVS__FOR3(q)
+				PVS__FOR3(k) {
 					double y = s->positions[3 * (size_t)s->indices[3 * (size_t)tp->tris[t] + q] + k];
 					lo[k] = pvs__dmin(lo[k], y);
 					hi[k] = pvs__dmax(hi[k], y);
 				}
-		for (k = 0; k < 3; ++k) ext[3 * (size_t)n + k] = hi[k] - lo[k] + 2.0 * m;
+		PVS__FOR3(k) ext[3 * (size_t)n + k] = hi[k] - lo[k] + 2.0 * m;
 		++n;
 	}
 	budget = pvs__dmax(budget, (double)PVS__VX_COMPONENT_SHARE * n);
 	for (;;) {
 		for (comp = 0, total = 0.0; comp < n && total <= budget; ++comp) {
 			double vol = 1.0;
-			for (k = 0; k < 3; ++k) vol *= pvs__dmin(ext[3 * (size_t)comp + k] / h + 3.0, 1e18);
+			PVS__FOR3(k) vol *= pvs__dmin(ext[3 * (size_t)comp + k] / h + 3.0, 1e18);
 			total += pvs__dmin(vol, (double)PVS__VX_BOX_BUDGET); /* bigger boxes grow own voxels */
 		}
 		if (total <= budget || !(h < 1e30)) break;
@@ -11752,7 +11756,7 @@ PVS__STATIC void pvs__tri_axis_range(const pvs_scene *s, uint32_t tri, uint32_t 
 	uint32_t q;
 	*lo = DBL_MAX;
 	*hi = -DBL_MAX;
-	for (q = 0; q < 3; ++q) {
+	PVS__FOR3(q) {
 		double x = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + q] + k];
 		*lo = pvs__dmin(*lo, x);
 		*hi = pvs__dmax(*hi, x);
@@ -11764,12 +11768,12 @@ PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, 
 									double m, uint32_t lo[3], uint32_t hi[3]) {
 	uint32_t t, k, r0, r1, up = s->up_axis;
 	size_t vol = 1;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		lo[k] = 0xffffffffu;
 		hi[k] = 0;
 	}
 	for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t)
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			double tl, th;
 			pvs__tri_axis_range(s, tp->tris[t], k, &tl, &th);
 			pvs__vx_grange(gr, (int)k, tl, th, m, &r0, &r1);
@@ -11778,7 +11782,7 @@ PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, 
 		}
 	if (lo[up] < 1 || tp->open_first[comp + 1] > tp->open_first[comp]) lo[up] = 1;
 	if (hi[up] < lo[up]) hi[up] = lo[up];
-	for (k = 0; k < 3; ++k) vol *= (size_t)(hi[k] - lo[k] + 1);
+	PVS__FOR3(k) vol *= (size_t)(hi[k] - lo[k] + 1);
 	return vol;
 }
 
@@ -11796,9 +11800,9 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 	pvs__ground_axes(up, &u, &v);
 	area = ((double)ext->max[u] - ext->min[u] + 2.0 * eps) * ((double)ext->max[v] - ext->min[v] + 2.0 * eps);
 	c = pvs__dmax(0.5 * eps, sqrt(area / (double)PVS__VX_MAP_BUDGET));
-	memset(&cm->grid, 0, sizeof(cm->grid));
+	PVS__ZERO(cm->grid);
 	cm->grid.h = c;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		if ((int)k == u || (int)k == v) {
 			cm->grid.origin[k] = (double)ext->min[k] - c;
 			cm->grid.n[k] = (uint32_t)(floor(((double)ext->max[k] - ext->min[k]) / c) + 3.0);
@@ -11826,7 +11830,7 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 		if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
 		for (;;) {
 			gk.h = hk;
-			for (k = 0; k < 3; ++k) {
+			PVS__FOR3(k) {
 				gk.origin[k] = (double)ext->min[k] - hk;
 				gk.n[k] = (uint32_t)(floor(((double)ext->max[k] - ext->min[k]) / hk) + 3.0);
 			}
@@ -11915,7 +11919,7 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	int kk;
 	b->ext = b->s->bounds;
 	for (c = 0; c < d->cell_count; ++c)
-		for (kk = 0; kk < 3; ++kk) {
+		PVS__FOR3(kk) {
 			if (d->cells[c].min[kk] < b->ext.min[kk]) b->ext.min[kk] = d->cells[c].min[kk];
 			if (d->cells[c].max[kk] > b->ext.max[kk]) b->ext.max[kk] = d->cells[c].max[kk];
 		}
@@ -11923,26 +11927,26 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	h = d->voxel_size > 0.0f ? d->voxel_size : d->eps / 1.5;
 	for (;;) {
 		double cnt = 1.0, lim = d->max_voxels ? (double)d->max_voxels : (double)(1u << 24);
-		for (kk = 0; kk < 3; ++kk) cnt *= floor(((double)b->ext.max[kk] - b->ext.min[kk]) / h) + 3.0;
+		PVS__FOR3(kk) cnt *= floor(((double)b->ext.max[kk] - b->ext.min[kk]) / h) + 3.0;
 		if (cnt <= lim) break;
 		h *= 1.08;
 	}
 	b->h = h;
 	o = (pvs_occluders *)pvs__alloc(a, sizeof(*o), 16);
 	if (!o) return PVS__OOM(err, "occluders");
-	memset(o, 0, sizeof(*o));
+	PVS__ZERO(*o);
 	o->allocator = *a;
 	o->scene = b->s;
 	o->h = h;
 	o->ground = (float)b->g;
-	for (kk = 0; kk < 3; ++kk) {
+	PVS__FOR3(kk) {
 		o->n[kk] = (uint32_t)(floor(((double)b->ext.max[kk] - b->ext.min[kk]) / h) + 3.0);
 		o->origin[kk] = (double)b->ext.min[kk] - h;
 		total *= o->n[kk];
 	}
 	o->origin[up] = b->g - h;
 	o->total = b->total = total;
-	for (kk = 0; kk < 3; ++kk) {
+	PVS__FOR3(kk) {
 		o->grid.origin[kk] = o->origin[kk];
 		o->grid.n[kk] = o->n[kk];
 	}
@@ -12068,11 +12072,11 @@ PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
 	b->queue = PVS__ALLOC_N(a, uint32_t, b->qcap);
 	fl->queue = b->queue;
 	if (!fl->bits || !fl->col || !b->queue) return PVS_ERROR_OUT_OF_MEMORY;
-	memset(&tv, 0, sizeof(tv));
+	PVS__ZERO(tv);
 	tv.o = o;
 	tv.gr = &o->grid;
 	tv.hs = 0.5 * b->h + b->m;
-	for (kk = 0; kk < 3; ++kk) last[kk] = o->n[kk] - 1;
+	PVS__FOR3(kk) last[kk] = o->n[kk] - 1;
 	for (c = 0; c < tp->comp_count; ++c) {
 		uint32_t t;
 		if (tp->comp_first[c + 1] - tp->comp_first[c] >= 3) {
@@ -12107,7 +12111,7 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 	for (c = 0; c < s->occluder_count; ++c) {
 		const pvs_box *ob = s->occluder_boxes + c;
 		uint32_t r0[3], r1[3];
-		for (kk = 0; kk < 3; ++kk) pvs__vx_grange(&o->grid, kk, ob->min[kk], ob->max[kk], 0.0, r0 + kk, r1 + kk);
+		PVS__FOR3(kk) pvs__vx_grange(&o->grid, kk, ob->min[kk], ob->max[kk], 0.0, r0 + kk, r1 + kk);
 		for (k = r0[2]; k <= r1[2]; ++k)
 			for (j = r0[1]; j <= r1[1]; ++j)
 				for (i = r0[0]; i <= r1[0]; ++i) {
@@ -12159,7 +12163,7 @@ PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 		uint32_t r0[3], r1[3];
 		int found = 0;
 		const pvs_box *cb = d->cells + c;
-		for (kk = 0; kk < 3; ++kk) pvs__vx_grange(&o->grid, kk, cb->min[kk], cb->max[kk], b->m, r0 + kk, r1 + kk);
+		PVS__FOR3(kk) pvs__vx_grange(&o->grid, kk, cb->min[kk], cb->max[kk], b->m, r0 + kk, r1 + kk);
 		for (k = r0[2]; k <= r1[2] && !found; ++k)
 			for (j = r0[1]; j <= r1[1] && !found; ++j)
 				for (i = r0[0]; i <= r1[0] && !found; ++i)
@@ -12191,7 +12195,7 @@ PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
 		uint32_t r0[3], r1[3];
 		int found = 0;
 		if ((s->object_flags[c] & PVS_OBJECT_OCCLUDER_ONLY) || !pvs__box_valid(ob)) continue;
-		for (kk = 0; kk < 3; ++kk) pvs__vx_grange(&o->grid, kk, ob->min[kk], ob->max[kk], 0.0, r0 + kk, r1 + kk);
+		PVS__FOR3(kk) pvs__vx_grange(&o->grid, kk, ob->min[kk], ob->max[kk], 0.0, r0 + kk, r1 + kk);
 		for (k = r0[2]; k <= r1[2] && !found; ++k)
 			for (j = r0[1]; j <= r1[1] && !found; ++j)
 				for (i = r0[0]; i <= r1[0] && !found; ++i) found = o->eroded[pvs__vx_index(o, i, j, k)];
@@ -12244,7 +12248,7 @@ PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
 			if (fl->excluded[c]) { o->excluded[n] = c; o->excluded_boxes[n++] = d->cells[c]; }
 	}
 	pvs__free_array(a, fl->cellbuf, d->cell_count, 7);
-	memset(fl, 0, sizeof(*fl));
+	PVS__ZERO(*fl);
 	return PVS_OK;
 }
 
@@ -12254,7 +12258,7 @@ PVS__STATIC void pvs__vx_erode_merge(pvs__vx_build *b, uint32_t r) {
 	pvs_occluders *o = b->o;
 	size_t vi, total = b->total;
 	int kk;
-	for (kk = 0; kk < 3; ++kk) pvs__vx_erode_axis(o, o->eroded, b->line, kk, r);
+	PVS__FOR3(kk) pvs__vx_erode_axis(o, o->eroded, b->line, kk, r);
 	for (vi = 0; vi < total; ++vi) o->info.eroded += o->eroded[vi];
 	memcpy(b->tmp, o->eroded, total);
 	o->box_count = pvs__vx_merge(o, b->tmp, NULL);
@@ -12273,7 +12277,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
 	uint32_t c, r;
 	int kk;
 	if (out) *out = NULL;
-	memset(&b, 0, sizeof(b));
+	PVS__ZERO(b);
 	if (!d || !out || !d->scene || !d->cells || !d->cell_count)
 		return PVS__BAD_ARG(err, "desc, scene, cells and out must be given");
 	if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
@@ -12305,7 +12309,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
 		pvs_occluders_destroy(o);
 		return PVS__OOM(err, "occluder boxes");
 	}
-	for (kk = 0; kk < 3; ++kk) {
+	PVS__FOR3(kk) {
 		o->info.dims[kk] = o->n[kk];
 		o->info.origin[kk] = (float)o->origin[kk];
 	}
@@ -12428,7 +12432,7 @@ PVS__STATIC pvs_result pvs__walk_solids(pvs__walk *k, pvs_error *err) {
 			if (k->tp.open_edges[6 * (size_t)t + k->up] != base || k->tp.open_edges[6 * (size_t)t + 3 + k->up] != base)
 				k->cbox[c] = pvs__box_empty();
 	}
-	memset(&kd, 0, sizeof(kd));
+	PVS__ZERO(kd);
 	kd.boxes = k->cbox;
 	kd.count = k->tp.comp_count;
 	kd.allocator = k->d.allocator;
@@ -12469,7 +12473,7 @@ PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 		if (t >= range || !pvs_scene_raycast(s, o, dir, (float)(range - t), &hit)) break;
 		t += hit.t;
 		tri = s->indices + 3 * (size_t)hit.triangle;
-		for (j = 0; j < 3; ++j) {
+		PVS__FOR3(j) {
 			e1[j] = (double)s->positions[3 * (size_t)tri[1] + j] - s->positions[3 * (size_t)tri[0] + j];
 			e2[j] = (double)s->positions[3 * (size_t)tri[2] + j] - s->positions[3 * (size_t)tri[0] + j];
 		}
@@ -12680,7 +12684,7 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 		pvs__wgroup *q;
 		if (r == a) {
 			q = g + ng++;
-			memset(q, 0, sizeof(*q));
+			PVS__ZERO(*q);
 			q->square = iv / 4 * gnu + iu / 4;
 			q->root = r;
 			q->lo = q->hi = k->w[a].h;
@@ -12746,12 +12750,12 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 	uint32_t c;
 	if (count) *count = 0;
 	if (!s || !count) return PVS__BAD_ARG(err, "scene and count must not be NULL");
-	memset(&k, 0, sizeof(k));
+	PVS__ZERO(k);
 	if (desc) k.d = *desc;
 	if (!pvs__finite(k.d.cell_size) || !pvs__finite(k.d.eye_height) || !pvs__finite(k.d.head_room) ||
 		!pvs__finite(k.d.step_height) || !pvs__finite(k.d.max_slope) ||
 		(k.d.seed && (!pvs__finite(k.d.seed[0]) || !pvs__finite(k.d.seed[1]) || !pvs__finite(k.d.seed[2]))))
-		return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "walkable: a size, height, slope or the seed is not finite");
+		return PVS__FAIL(err, PVS_ERROR_NOT_FINITE, "walkable: a size, height, slope or the seed is not finite");
 	if (k.d.cell_size < 0.0f || k.d.eye_height < 0.0f || k.d.head_room < 0.0f || k.d.step_height < 0.0f ||
 		k.d.max_slope < 0.0f || k.d.max_slope >= 1.5707963f || k.d.max_merge > 8 || (k.d.volume_count && !k.d.volumes))
 		return PVS__BAD_ARG(err, "walkable: negative size, slope not below pi / 2, max_merge over 8 or volumes NULL");
@@ -12764,7 +12768,7 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 	if (k.d.max_slope == 0.0f) k.d.max_slope = 0.7853982f;
 	if (k.d.max_merge == 0) k.d.max_merge = 2;
 	if (!pvs__finite(k.d.cell_size) || !pvs__finite(k.d.step_height))
-		return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "walkable: eye_height %g too large", k.d.eye_height);
+		return PVS__FAIL(err, PVS_ERROR_NOT_FINITE, "walkable: eye_height %g too large", k.d.eye_height);
 	k.s = s;
 	k.up = (int)s->up_axis;
 	pvs__ground_axes(s->up_axis, &k.u, &k.v);
@@ -12780,7 +12784,7 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 	k.nv = (uint32_t)pvs__dmin(ceil(((double)s->bounds.max[k.v] - k.v0) / k.hs) + 1.0, 1e9);
 	ncol = (size_t)k.nu * k.nv;
 	if ((double)k.nu * k.nv > (double)(1u << 26))
-		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "walkable: %.0f sample columns (a larger cell_size)",
+		return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "walkable: %.0f sample columns (a larger cell_size)",
 						 (double)k.nu * k.nv);
 	k.first = PVS__ALLOC_N(&k.d.allocator, uint32_t, ncol + 1);
 	r = k.first ? pvs__walk_solids(&k, err) : PVS__OOM(err, "walkable columns");
@@ -13188,8 +13192,8 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
 	*out = NULL;
 	p = (pvs__vprep *)pvs__alloc(al, sizeof(pvs__vprep), 16);
 	if (!p) return PVS_ERROR_OUT_OF_MEMORY;
-	memset(p, 0, sizeof(*p));
-	memset(&w, 0, sizeof(w));
+	PVS__ZERO(*p);
+	PVS__ZERO(w);
 	p->a = *al;
 	for (i = 0; i < n; ++i) m += !(seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]);
 	p->nseg = m;
@@ -13335,7 +13339,7 @@ PVS__STATIC void pvs__vctx_free(pvs__vctx *c) {
 	PVS__VO_FREE(a, c->hkeys, c->caphkeys, pvs__key_index);
 	PVS__VO_FREE(a, c->hidx, c->caphidx, uint32_t);
 	PVS__VO_FREE(a, c->out, c->capout, pvs__vo_cand);
-	memset(c, 0, sizeof(*c));
+	PVS__ZERO(*c);
 }
 
 /* c's cell relative to centre: cmin, cmax, corners ccw from cmin. */
@@ -13357,7 +13361,7 @@ PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs_
 							   const double cmax[2], double range) {
 	int k;
 	double ext = 1.0, mid[2];
-	memset(c, 0, sizeof(*c));
+	PVS__ZERO(*c);
 	c->al = al;
 	c->p = p;
 	for (k = 0; k < 2; ++k) mid[k] = 0.5 * cmin[k] + 0.5 * cmax[k];
@@ -13427,7 +13431,7 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
 		return PVS__VO_NONE;
 	}
 	o = c->obj + c->nobj;
-	memset(o, 0, sizeof(*o));
+	PVS__ZERO(*o);
 	o->first = c->nvx;
 	o->n = n;
 	o->loop = loop;
@@ -14143,7 +14147,7 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
 	double best = 0.0, dir[2], p[2], cen[2] = {0.0, 0.0};
 	pvs__vo_cur out;
 	uint32_t i, k;
-	memset(&out, 0, sizeof(out));
+	PVS__ZERO(out);
 	if (keep && cur->valid) {
 		double line_p[2], line_d[2], mid = 0.5 * (cur->t0 + cur->t1);
 		memcpy(line_p, cur->p, sizeof(line_p));
@@ -14158,7 +14162,7 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
 		cen[0] += v[2 * i] / o->n;
 		cen[1] += v[2 * i + 1] / o->n;
 	}
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		double depth = -DBL_MAX, nrm[2];
 		if (k == 0) { nrm[0] = sd[0].pd[0] + sd[1].pd[0]; nrm[1] = sd[0].pd[1] + sd[1].pd[1]; }
 		else if (k == 1) { nrm[0] = sd[1].po[1] - sd[0].po[1]; nrm[1] = sd[0].po[0] - sd[1].po[0]; }
@@ -14345,7 +14349,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 	uint32_t step = 0, s;
 	++c->epoch;
 	c->ng = c->nk = c->nlines = 0;
-	memset(&cur, 0, sizeof(cur));
+	PVS__ZERO(cur);
 	memset(sd, 0, sizeof(sd));
 	pvs__vo_g_add(c, seed);
 	if (!pvs__vo_reserve(c->al, (void **)&c->k, &c->capk, PVS__VO_MAXG + 1, sizeof(uint32_t))) { c->oom = 1; return; }
@@ -14395,7 +14399,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 				sd[0].done = sd[1].done = 0;
 				if (!via_q) { /* case 1: old one dumped */
 					pvs__vo_cur next;
-					memset(&next, 0, sizeof(next));
+					PVS__ZERO(next);
 					if (pvs__vo_place(c, sd, b, &next, 0)) {
 						pvs__vo_dump(c, &cur);
 						cur = next;
@@ -14444,7 +14448,7 @@ PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
 /* Growth's virtual occluder: rounded as stored, checked, kept. */
 PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 	pvs__vo_cand cand;
-	memset(&cand, 0, sizeof(cand));
+	PVS__ZERO(cand);
 	if (!c->quantize) {
 		int k;
 		for (k = 0; k < 2; ++k) { /* float ends, as pvs_vocc_2d returns */
@@ -14490,7 +14494,7 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
 								 double base, double top) {
 	double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
 	int k, e;
-	memset(r, 0, sizeof(*r));
+	PVS__ZERO(*r);
 	r->up = up == 2 ? 2 : 1;
 	pvs__ground_axes((uint32_t)r->up, &r->u_axis, &r->v_axis);
 	pvs__vo_cell_centre(cell, r->u_axis, r->v_axis, r->o);
@@ -14583,7 +14587,7 @@ PVS__STATIC int pvs__vo_rt_hides(const pvs__vo_rt *r, const pvs_box *b) {
 
 PVS__STATIC int pvs__vo_box_ok(const pvs_box *b) {
 	int k;
-	for (k = 0; k < 3; ++k)
+	PVS__FOR3(k)
 		if (!(b->min[k] <= b->max[k]) || !pvs__finite(b->min[k]) || !pvs__finite(b->max[k])) return 0;
 	return 1;
 }
@@ -14672,7 +14676,7 @@ PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_
 	if (tree) {
 		pvs_result r = pvs_kdtree_sweep(tree, cell, rest, rest_size, pvs__vo_walk_visit, &w);
 		if (r != PVS_OK)
-			return pvs__fail(err, r, -1, 0, "object tree walk (scratch %llu bytes)", (unsigned long long)rest_size);
+			return PVS__FAIL(err, r, "object tree walk (scratch %llu bytes)", (unsigned long long)rest_size);
 	} else
 #else
 	(void)cell, (void)tree, (void)rest, (void)rest_size;
@@ -14698,7 +14702,7 @@ PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t coun
 #endif
 	skew = (size_t)(-(intptr_t)p) & 15u;
 	if (size < need || size - skew < need - 16u)
-		return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "scratch of %llu bytes, need %llu",
+		return PVS__FAIL(err, PVS_ERROR_BUFFER_TOO_SMALL, "scratch of %llu bytes, need %llu",
 						 (unsigned long long)size, (unsigned long long)need);
 	p += skew;
 	*rt = (pvs__vo_rt *)(void *)p;
@@ -14779,25 +14783,24 @@ PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, co
 	float base, hstep;
 	const uint8_t *counts;
 	if (size < PVS__VO_HEAD)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC has %u bytes, fewer than its 16-byte header", size);
+		return PVS__BAD_SECTION(err, so, "VOCC has %u bytes, fewer than its 16-byte header", size);
 	flags = pvs__get32(sec);
 	n = pvs__get32(sec + 4);
 	base = pvs__getf32(sec + 8);
 	hstep = pvs__getf32(sec + 12);
-	if (flags & ~1u) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC: unknown flags 0x%x", flags);
+	if (flags & ~1u) return PVS__BAD_SECTION(err, so, "VOCC: unknown flags 0x%x", flags);
 	if ((uint64_t)n > 255ull * cells)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + 4, "VOCC: %u occluders for %u cells", n, cells);
+		return PVS__BAD_SECTION(err, so + 4, "VOCC: %u occluders for %u cells", n, cells);
 	if (!pvs__finite(base) || !pvs__finite(hstep) || !(hstep > 0.0f) || !pvs__finite(base + 255.0f * hstep))
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + 8, "VOCC: base %g or height step %g is not usable",
-						 (double)base, (double)hstep);
+		return PVS__BAD_SECTION(err, so + 8, "VOCC: base %g or height step %g is not usable",
+								(double)base, (double)hstep);
 	need = pvs__vo_section_size(cells, n);
 	if (!need || need != size)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC has %u bytes, %u cells and %u occluders need %llu",
-						 size, cells, n, (unsigned long long)need);
+		return PVS__BAD_SECTION(err, so, "VOCC has %u bytes, %u cells and %u occluders need %llu",
+								size, cells, n, (unsigned long long)need);
 	counts = sec + PVS__VO_HEAD + 4 * ((size_t)blocks + 1);
 	if (pvs__get32(sec + PVS__VO_HEAD) != 0 || pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)blocks) != n)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + PVS__VO_HEAD, "VOCC: block offsets must run from 0 to %u",
-						 n);
+		return PVS__BAD_SECTION(err, so + PVS__VO_HEAD, "VOCC: block offsets must run from 0 to %u", n);
 	for (b = 0; b < blocks; ++b) {
 		uint32_t sum = 0, lo = pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)b),
 				 hi = pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)b + 4);
@@ -14940,7 +14943,7 @@ PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator
 	*out = NULL;
 	vb = (pvs__vbake *)pvs__alloc(a, sizeof(pvs__vbake), 16);
 	if (!vb) return PVS_ERROR_OUT_OF_MEMORY;
-	memset(vb, 0, sizeof(*vb));
+	PVS__ZERO(*vb);
 	vb->a = *a;
 	vb->up = s->up_axis == 2 ? 2u : 1u;
 	vb->slices = slices;
@@ -15179,8 +15182,8 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
 	reach = reach * 1.01 + 1.0;
 	code = pvs__vo_scale_code(reach);
 	*scale = (uint8_t)code;
-	memset(&c, 0, sizeof(c));
-	memset(&sw, 0, sizeof(sw));
+	PVS__ZERO(c);
+	PVS__ZERO(sw);
 	r = pvs__vo_dense_set(vb, cell, centre, reach, code, &c);
 	if (r != PVS_OK) goto done;
 	if (c.nout) {
@@ -15197,7 +15200,7 @@ done:
 	if (sw.covered) PVS__FREE_N(al, sw.covered, words);
 	if (sw.sel) PVS__FREE_N(al, sw.sel, (size_t)vb->max_keep + 1);
 	if (c.al) pvs__vctx_free(&c);
-	if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "virtual occluders: out of memory");
+	if (r != PVS_OK) return PVS__FAIL(err, r, "virtual occluders: out of memory");
 	return PVS_OK;
 }
 
@@ -15213,14 +15216,14 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t c
 	uint32_t i, k;
 	pvs_result r = PVS_OK;
 	if (count) *count = 0;
-	if (stats) memset(stats, 0, sizeof(*stats));
+	if (stats) PVS__ZERO(*stats);
 	if (!d || !count || (d->segment_count && !d->segments))
 		return PVS__BAD_ARG(err, "desc, count and the segments must not be NULL");
 	for (k = 0; k < 2; ++k) {
 		if (!pvs__finite(d->cell_min[k]) || !pvs__finite(d->cell_max[k]))
-			return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "the cell is not finite");
+			return PVS__FAIL(err, PVS_ERROR_NOT_FINITE, "the cell is not finite");
 		if (!(d->cell_min[k] < d->cell_max[k]))
-			return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell has no area (min >= max on axis %u)", k);
+			return PVS__FAIL(err, PVS_ERROR_BAD_CELL, "the cell has no area (min >= max on axis %u)", k);
 	}
 	if (!pvs__finite(d->range) || d->range < 0.0f)
 		return PVS__BAD_ARG(err, "range must be finite and >= 0");
@@ -15256,7 +15259,7 @@ done:
 	PVS__FREE_N(&al, seg, 4 * (size_t)d->segment_count + 4);
 	PVS__FREE_N(&al, top, (size_t)d->segment_count + 1);
 	pvs__vprep_destroy(p);
-	if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "virtual occluders: out of memory");
+	if (r != PVS_OK) return PVS__FAIL(err, r, "virtual occluders: out of memory");
 	pvs__ok(err);
 	return PVS_OK;
 }
@@ -15291,14 +15294,14 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
 	vo = (pvs__vocc_bake *)pvs__alloc(&env->allocator, sizeof(pvs__vocc_bake), 16);
 	*state = vo;
 	if (!vo) return PVS__OOM(err, "vocc: facades");
-	memset(vo, 0, sizeof(*vo));
+	PVS__ZERO(*vo);
 	vo->allocator = env->allocator;
 	vo->task_count = env->task_count;
 	vo->keep = keep;
 	r = pvs__vbake_create(env->scene, &env->allocator, slices, keep, &vo->vb);
-	if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "vocc: facades");
+	if (r != PVS_OK) return PVS__FAIL(err, r, "vocc: facades");
 	if (!vo->vb->prep->nobj && !env->is_auto)
-		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
+		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED,
 						 "vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual "
 						 "occluders cannot be built");
 	vo->only = desc->vocc.only;
@@ -15381,7 +15384,7 @@ PVS__STATIC const pvs__bake_method pvs__vocc_method = {
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 	const pvs__vocc_bake *vo = b ? (const pvs__vocc_bake *)pvs__bake_method_state(b, PVS_METHOD_VOCC) : NULL;
 	uint32_t i;
-	memset(out, 0, sizeof(*out));
+	PVS__ZERO(*out);
 	for (i = 0; vo && vo->stats && i < vo->task_count; ++i) pvs__vo_stats_add(out, vo->stats + i);
 }
 
@@ -15517,9 +15520,9 @@ PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) 
 	/* canonical orientation: largest normal component positive */
 	a = (uint32_t)pvs__po_axis(n);
 	b = n[a] < 0.0;
-	for (k = 0; k < 3; ++k) nn[k] = b ? -n[k] : n[k];
+	PVS__FOR3(k) nn[k] = b ? -n[k] : n[k];
 	pair = (uint32_t)(p->plane_count / 2);
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		p->pl[2 * pair][k] = nn[k];
 		p->pl[2 * pair + 1][k] = -nn[k];
 	}
@@ -15545,15 +15548,15 @@ PVS__STATIC void pvs__po_base(const double *pl, double big, pvs__po_wind *w) {
 	int k;
 	up[a == 2 ? 0 : 2] = 1.0;
 	dot = up[0] * pl[0] + up[1] * pl[1] + up[2] * pl[2];
-	for (k = 0; k < 3; ++k) up[k] -= dot * pl[k];
+	PVS__FOR3(k) up[k] -= dot * pl[k];
 	len = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
-	for (k = 0; k < 3; ++k) up[k] = up[k] / len * big;
+	PVS__FOR3(k) up[k] = up[k] / len * big;
 	right[0] = up[1] * pl[2] - up[2] * pl[1];
 	right[1] = up[2] * pl[0] - up[0] * pl[2];
 	right[2] = up[0] * pl[1] - up[1] * pl[0];
-	for (k = 0; k < 3; ++k) o[k] = pl[k] * pl[3];
+	PVS__FOR3(k) o[k] = pl[k] * pl[3];
 	w->n = 4;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		w->p[0][k] = o[k] - right[k] + up[k];
 		w->p[1][k] = o[k] + right[k] + up[k];
 		w->p[2][k] = o[k] + right[k] - up[k];
@@ -15581,7 +15584,7 @@ PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double ep
 		double x[3];
 		if (cross) {
 			double t = dist[i] / (dist[i] - dist[j]);
-			for (k = 0; k < 3; ++k) x[k] = w->p[i][k] + t * (w->p[j][k] - w->p[i][k]);
+			PVS__FOR3(k) x[k] = w->p[i][k] + t * (w->p[j][k] - w->p[i][k]);
 		}
 		if (front && dist[i] >= -eps) lost |= pvs__po_put(front, &nf, w->p[i]);
 		if (back && dist[i] <= eps) lost |= pvs__po_put(back, &nb, w->p[i]);
@@ -15619,7 +15622,7 @@ PVS__STATIC void pvs__po_clip_base(pvs__poprep *p, uint32_t id, const uint32_t *
 PVS__STATIC void pvs__po_poly_free(const pvs_allocator *a, pvs__po_poly *q) {
 	if (!q->plane) return;
 	pvs__free(a, (void *)q->v, (size_t)q->face_count * 8 + 4 + (size_t)q->vert_count * 24, 8);
-	memset(q, 0, sizeof(*q));
+	PVS__ZERO(*q);
 }
 
 /* Faces (planes, windings) into one block; 0: OOM. */
@@ -15649,7 +15652,7 @@ PVS__STATIC pvs_box pvs__po_poly_box(const pvs__po_poly *q) {
 	pvs_box b = pvs__box_empty();
 	uint32_t i, k;
 	for (i = 0; i < q->vert_count; ++i)
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			b.min[k] = pvs__f_down(pvs__dmin(q->v[i][k], b.min[k]));
 			b.max[k] = pvs__f_up(pvs__dmax(q->v[i][k], b.max[k]));
 		}
@@ -15666,7 +15669,7 @@ PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w
 PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes, uint32_t count, pvs__po_poly *q,
 										 pvs__po_wind *scratch, uint32_t *kept) {
 	uint32_t i, faces = 0;
-	memset(q, 0, sizeof(*q));
+	PVS__ZERO(*q);
 	for (i = 0; i < count; ++i) {
 		pvs__po_clip_base(p, planes[i], planes, count, planes[i] >> 1, scratch + faces);
 		if (scratch[faces].n >= 3) kept[faces++] = planes[i];
@@ -15679,7 +15682,7 @@ PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes,
 /* Axis k of plane of normal +-e_k, else -1. */
 PVS__STATIC int pvs__po_unit_axis(const double *pl) {
 	int j;
-	for (j = 0; j < 3; ++j)
+	PVS__FOR3(j)
 		if ((pl[j] == 1.0 || pl[j] == -1.0) && pl[(j + 1) % 3] == 0.0 && pl[(j + 2) % 3] == 0.0) return j;
 	return -1;
 }
@@ -15717,8 +15720,8 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 	const double *pl = p->pl[id];
 	uint32_t f, side, n;
 	pvs__po_wind w, a, b;
-	memset(front, 0, sizeof(*front));
-	memset(back, 0, sizeof(*back));
+	PVS__ZERO(*front);
+	PVS__ZERO(*back);
 	for (side = 0; side < 2; ++side) {
 		n = 0;
 		for (f = 0; f < q->face_count; ++f) {
@@ -15753,11 +15756,11 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 	double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX}, tolc, sign = 0.0;
 	if (n < 4) return 0;
 	for (i = 0; i < n; ++i)
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			const uint32_t *t = s->indices + 3 * (size_t)tris[i];
 			edges[3 * i + k][0] = edges[3 * (n + i) + k][1] = canon[t[k]];
 			edges[3 * i + k][1] = edges[3 * (n + i) + k][0] = canon[t[(k + 1) % 3]];
-			for (j = 0; j < 3; ++j) {
+			PVS__FOR3(j) {
 				double x = s->positions[3 * (size_t)t[k] + j];
 				lo[j] = x < lo[j] ? x : lo[j];
 				hi[j] = x > hi[j] ? x : hi[j];
@@ -15784,7 +15787,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 		const float *a = s->positions + 3 * (size_t)t[0], *b = s->positions + 3 * (size_t)t[1],
 					*c = s->positions + 3 * (size_t)t[2];
 		double e1[3], e2[3], nn[3], d, len, size = 1e6 * tolc;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			e1[k] = (double)b[k] - a[k];
 			e2[k] = (double)c[k] - a[k];
 		}
@@ -15793,10 +15796,10 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 		nn[2] = sign * (e1[0] * e2[1] - e1[1] * e2[0]);
 		len = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
 		if (!(len > 1e-12 * size * size)) continue; /* sliver: edges still counted */
-		for (k = 0; k < 3; ++k) nn[k] /= len;
+		PVS__FOR3(k) nn[k] /= len;
 		d = -(nn[0] * a[0] + nn[1] * a[1] + nn[2] * a[2]);
 		for (j = 0; j < n; ++j)
-			for (k = 0; k < 3; ++k) {
+			PVS__FOR3(k) {
 				const float *v = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[j] + k];
 				if (nn[0] * v[0] + nn[1] * v[1] + nn[2] * v[2] + d > tolc) return 0;
 			}
@@ -15821,13 +15824,13 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 	pvs__vx_edge *he = NULL;
 	int ok = 0;
 	if (nt == 0) return 1;
-	parent = (uint32_t *)pvs__alloc_array(al, nv, sizeof(uint32_t));
-	head = (uint32_t *)pvs__alloc_array(al, nv, sizeof(uint32_t));
-	next = (uint32_t *)pvs__alloc_array(al, nt, sizeof(uint32_t));
+	parent = PVS__ALLOC_N(al, uint32_t, nv);
+	head = PVS__ALLOC_N(al, uint32_t, nv);
+	next = PVS__ALLOC_N(al, uint32_t, nt);
 	edges = (uint32_t(*)[2])pvs__alloc_array(al, 6 * PVS__PO_MAX_FACES, sizeof(edges[0]));
-	canon = (uint32_t *)pvs__alloc_array(al, nv, sizeof(uint32_t));
-	vk = (pvs__vx_vkey *)pvs__alloc_array(al, nv, sizeof(pvs__vx_vkey));
-	he = (pvs__vx_edge *)pvs__alloc_array(al, 3 * (size_t)nt, sizeof(pvs__vx_edge));
+	canon = PVS__ALLOC_N(al, uint32_t, nv);
+	vk = PVS__ALLOC_N(al, pvs__vx_vkey, nv);
+	he = PVS__ALLOC_N(al, pvs__vx_edge, 3 * (size_t)nt);
 	if (!parent || !head || !next || !edges || !canon || !vk || !he) goto done;
 	pvs__weld(s, vk, canon);
 	for (i = 0; i < nv; ++i) {
@@ -15883,13 +15886,13 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 	}
 	ok = 1;
 done:
-	pvs__free_array(al, parent, s->vertex_count, sizeof(uint32_t));
-	pvs__free_array(al, head, s->vertex_count, sizeof(uint32_t));
-	pvs__free_array(al, next, s->triangle_count, sizeof(uint32_t));
-	pvs__free_array(al, edges, 6 * PVS__PO_MAX_FACES, sizeof(edges[0]));
-	pvs__free_array(al, canon, nv, sizeof(uint32_t));
-	pvs__free_array(al, vk, nv, sizeof(pvs__vx_vkey));
-	pvs__free_array(al, he, 3 * (size_t)nt, sizeof(pvs__vx_edge));
+	PVS__FREE_N(al, parent, s->vertex_count);
+	PVS__FREE_N(al, head, s->vertex_count);
+	PVS__FREE_N(al, next, s->triangle_count);
+	PVS__FREE_N(al, edges, 6 * PVS__PO_MAX_FACES);
+	PVS__FREE_N(al, canon, nv);
+	PVS__FREE_N(al, vk, nv);
+	PVS__FREE_N(al, he, 3 * (size_t)nt);
 	return ok;
 }
 
@@ -15920,7 +15923,7 @@ PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *reg
 	} else {
 		pvs__po_poly_free(&p->allocator, region);
 	}
-	memset(region, 0, sizeof(*region));
+	PVS__ZERO(*region);
 	++p->leaf_count;
 	return PVS__PO_LEAF | id;
 }
@@ -15938,7 +15941,7 @@ PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint3
 		for (j = 0; boxes && j < 6; ++j) p->fbox[i][j] = j < 3 ? DBL_MAX : -DBL_MAX;
 		for (j = 0; boxes && j < f[i].vert_count; ++j) {
 			int k;
-			for (k = 0; k < 3; ++k) {
+			PVS__FOR3(k) {
 				p->fbox[i][k] = pvs__dmin(p->fbox[i][k], f[i].v[j][k]);
 				p->fbox[i][k + 3] = pvs__dmax(p->fbox[i][k + 3], f[i].v[j][k]);
 			}
@@ -15995,12 +15998,12 @@ PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint3
 		}
 		goto leaf;
 	}
-	part[0] = n ? (pvs__po_poly *)pvs__alloc_array(al, n, sizeof(pvs__po_poly)) : NULL;
-	part[1] = n ? (pvs__po_poly *)pvs__alloc_array(al, n, sizeof(pvs__po_poly)) : NULL;
+	part[0] = n ? PVS__ALLOC_N(al, pvs__po_poly, n) : NULL;
+	part[1] = n ? PVS__ALLOC_N(al, pvs__po_poly, n) : NULL;
 	if (!part[0] || !part[1] || !pvs__po_poly_split(p, region, 2 * pair, &rpart[0], &rpart[1], b->scratch, b->planes)) {
 		b->oom = 1;
-		pvs__free_array(al, part[0], n, sizeof(pvs__po_poly));
-		pvs__free_array(al, part[1], n, sizeof(pvs__po_poly));
+		PVS__FREE_N(al, part[0], n);
+		PVS__FREE_N(al, part[1], n);
 		goto leaf;
 	}
 	axis = p->fbox_n == n ? pvs__po_unit_axis(p->pl[2 * pair]) : -1;
@@ -16017,7 +16020,7 @@ PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint3
 			pvs__po_poly_free(al, f + i);
 		}
 	}
-	pvs__free_array(al, f, n, sizeof(pvs__po_poly));
+	PVS__FREE_N(al, f, n);
 	pvs__po_poly_free(al, region);
 	if (!pvs__grow(al, (void **)&p->nodes, &p->node_cap, p->node_count + 1, sizeof(pvs__po_node))) b->oom = 1;
 	id = b->oom ? PVS__PO_NONE : (uint32_t)p->node_count++;
@@ -16032,7 +16035,7 @@ PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint3
 leaf:
 	id = pvs__po_leaf(b, n > 0, region);
 	for (i = 0; i < n; ++i) pvs__po_poly_free(al, f + i);
-	pvs__free_array(al, f, n, sizeof(pvs__po_poly));
+	PVS__FREE_N(al, f, n);
 	return id;
 }
 
@@ -16079,7 +16082,7 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 		if (lo >= -p->eps && hi > p->eps) node = nd->child[0];
 		else if (hi <= p->eps && lo < -p->eps) node = nd->child[1];
 		else {
-			pvs__po_wind *parts = (pvs__po_wind *)pvs__alloc_array(&p->allocator, 2, sizeof(pvs__po_wind));
+			pvs__po_wind *parts = PVS__ALLOC_N(&p->allocator, pvs__po_wind, 2);
 			if (!parts) {
 				b->oom = 1;
 				return;
@@ -16088,7 +16091,7 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 			else parts[0] = parts[1] = *w;
 			for (i = 0; i < 2; ++i)
 				if (parts[i].n >= 3) pvs__po_push(b, parts + i, plane, nd->child[i], from);
-			pvs__free_array(&p->allocator, parts, 2, sizeof(pvs__po_wind));
+			PVS__FREE_N(&p->allocator, parts, 2);
 			return;
 		}
 	}
@@ -16104,7 +16107,7 @@ PVS__STATIC void pvs__po_box_down(const pvs__poprep *p, const pvs_box *b, uint32
 		const double *pl = p->pl[nd->plane];
 		double c = 0.0, r = 0.0;
 		uint32_t k;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			c += pl[k] * 0.5 * ((double)b->min[k] + b->max[k]);
 			r += fabs(pl[k]) * 0.5 * ((double)b->max[k] - b->min[k]);
 		}
@@ -16200,7 +16203,7 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps) {
 	double e1[3], e2[3], n[3], d, len, lo = 0.0, hi = 0.0, sg;
 	uint32_t i, k;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		e1[k] = b[k] - a[k];
 		e2[k] = c[k] - a[k];
 	}
@@ -16219,13 +16222,13 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 		hi = t > hi ? t : hi;
 		if (lo < -eps * len && hi > eps * len) return 0;
 	}
-	for (k = 0; k < 3; ++k) n[k] /= len;
+	PVS__FOR3(k) n[k] /= len;
 	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
 	sg = hi > eps * len ? 1.0 : -1.0; /* kept side, as table planes: sg (n.x + d) <= 0 */
 	for (i = 0; i < nb; ++i)
 		if (sg * (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d) > eps) return 0;
 	if (w->np < PVS__PO_MAXS) {
-		for (k = 0; k < 3; ++k) w->pl[w->np][k] = sg * n[k];
+		PVS__FOR3(k) w->pl[w->np][k] = sg * n[k];
 		w->pl[w->np++][3] = -sg * d;
 	}
 	return 1;
@@ -16306,7 +16309,7 @@ PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win 
 		if (w && pvs__box_clip(&b, p->leaf_box + leaf))
 			for (j = 0; j < w->np && keep; ++j) {
 				double x[3];
-				for (k = 0; k < 3; ++k) x[k] = w->pl[j][k] > 0.0 ? b.min[k] : b.max[k];
+				PVS__FOR3(k) x[k] = w->pl[j][k] > 0.0 ? b.min[k] : b.max[k];
 				keep = pvs__po_dist(w->pl[j], x) <= p->tol;
 			}
 		if (!keep) continue;
@@ -16405,7 +16408,7 @@ PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 	if (2 * (f->reg_count + 1) > f->slot_cap) {
 		uint32_t *old = f->slot;
 		size_t cap = f->slot_cap, i;
-		f->slot = (uint32_t *)pvs__alloc_array(al, 4 * cap, sizeof(uint32_t));
+		f->slot = PVS__ALLOC_N(al, uint32_t, 4 * cap);
 		if (!f->slot) {
 			f->slot = old;
 			return PVS__PO_NONE;
@@ -16414,7 +16417,7 @@ PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 		memset(f->slot, 0xff, 4 * cap * sizeof(uint32_t));
 		for (i = 0; i < cap; ++i)
 			if (old[2 * i] != PVS__PO_NONE) memcpy(pvs__po_slot(f, old[2 * i]), old + 2 * i, 2 * sizeof(uint32_t));
-		pvs__free_array(al, old, 2 * cap, sizeof(uint32_t));
+		PVS__FREE_N(al, old, 2 * cap);
 	}
 	if (!pvs__grow(al, (void **)&f->reg, &f->reg_cap, f->reg_count + 1, sizeof(pvs__po_region))) return PVS__PO_NONE;
 	e = pvs__po_slot(f, state);
@@ -16537,28 +16540,28 @@ PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 	(void)env;
 	if (!p) return;
 	a = &p->allocator;
-	pvs__free_array(a, p->pl, p->plane_cap, sizeof(p->pl[0]));
-	pvs__free_array(a, p->hash_head, p->hash_size, sizeof(uint32_t));
-	pvs__free_array(a, p->hash_next, p->hash_next_cap, sizeof(uint32_t));
-	pvs__free_array(a, p->on_path, p->flag_cap, 1);
-	pvs__free_array(a, p->stamp, p->flag_cap, sizeof(uint32_t));
-	pvs__free_array(a, p->facing, p->flag_cap, sizeof(uint32_t));
-	pvs__free_array(a, p->fbox, p->fbox_cap, sizeof(p->fbox[0]));
-	pvs__free_array(a, p->nodes, p->node_cap, sizeof(pvs__po_node));
+	PVS__FREE_N(a, p->pl, p->plane_cap);
+	PVS__FREE_N(a, p->hash_head, p->hash_size);
+	PVS__FREE_N(a, p->hash_next, p->hash_next_cap);
+	PVS__FREE_N(a, p->on_path, p->flag_cap);
+	PVS__FREE_N(a, p->stamp, p->flag_cap);
+	PVS__FREE_N(a, p->facing, p->flag_cap);
+	PVS__FREE_N(a, p->fbox, p->fbox_cap);
+	PVS__FREE_N(a, p->nodes, p->node_cap);
 	for (i = 0; i < p->leaf_count; ++i) pvs__po_poly_free(a, p->leaf + i);
-	pvs__free_array(a, p->leaf, p->leaf_cap, sizeof(pvs__po_poly));
-	pvs__free_array(a, p->leaf_box, p->leaf_box_cap, sizeof(pvs_box));
-	pvs__free_array(a, p->portals, p->portal_cap, sizeof(pvs__po_portal));
-	pvs__free_array(a, p->portal_v, p->portal_v_cap, sizeof(p->portal_v[0]));
-	pvs__free_array(a, p->lp_first, p->leaf_count + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->lp, p->portal_count + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->ep_first, p->portal_count + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->lo_first, p->leaf_count + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->lo, p->lo_count + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->task_cut, p->task_count + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->solid_box, (size_t)p->solids + 1, sizeof(pvs_box));
-	pvs__free_array(a, p->so_first, (size_t)p->solids + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->so, p->so_count + 1, sizeof(uint32_t));
+	PVS__FREE_N(a, p->leaf, p->leaf_cap);
+	PVS__FREE_N(a, p->leaf_box, p->leaf_box_cap);
+	PVS__FREE_N(a, p->portals, p->portal_cap);
+	PVS__FREE_N(a, p->portal_v, p->portal_v_cap);
+	PVS__FREE_N(a, p->lp_first, p->leaf_count + 1);
+	PVS__FREE_N(a, p->lp, p->portal_count + 1);
+	PVS__FREE_N(a, p->ep_first, p->portal_count + 1);
+	PVS__FREE_N(a, p->lo_first, p->leaf_count + 1);
+	PVS__FREE_N(a, p->lo, p->lo_count + 1);
+	PVS__FREE_N(a, p->task_cut, p->task_count + 1);
+	PVS__FREE_N(a, p->solid_box, (size_t)p->solids + 1);
+	PVS__FREE_N(a, p->so_first, (size_t)p->solids + 1);
+	PVS__FREE_N(a, p->so, p->so_count + 1);
 	pvs__free(a, p, sizeof(*p), 16);
 }
 
@@ -16566,17 +16569,17 @@ PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 PVS__STATIC int pvs__po_solid_objects(pvs__poprep *p, const pvs_scene *s, const pvs__po_poly *frags) {
 	const pvs_allocator *al = &p->allocator;
 	uint32_t i, o, *pairs = NULL, *stack = NULL, sp;
-	uint8_t *keep = (uint8_t *)pvs__alloc_array(al, s->object_count + 1, 1);
+	uint8_t *keep = PVS__ALLOC_N(al, uint8_t, s->object_count + 1);
 	size_t cap = 0;
 	pvs__obvh h;
 	int ok = 0;
-	memset(&h, 0, sizeof(h));
-	p->solid_box = (pvs_box *)pvs__alloc_array(al, (size_t)p->solids + 1, sizeof(pvs_box));
+	PVS__ZERO(h);
+	p->solid_box = PVS__ALLOC_N(al, pvs_box, (size_t)p->solids + 1);
 	if (!p->solid_box || !keep) goto done;
 	for (o = 0; o < s->object_count; ++o)
 		keep[o] = !(s->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + o);
 	if (pvs__obvh_build(al, s->object_boxes, s->object_count, keep, &h) != PVS_OK) goto done;
-	stack = (uint32_t *)pvs__alloc_array(al, (size_t)h.node_count + 1, sizeof(uint32_t));
+	stack = PVS__ALLOC_N(al, uint32_t, (size_t)h.node_count + 1);
 	if (!stack) goto done;
 	for (i = 0; i < p->solids; ++i) {
 		const pvs_box *b = p->solid_box + i;
@@ -16602,9 +16605,9 @@ PVS__STATIC int pvs__po_solid_objects(pvs__poprep *p, const pvs_scene *s, const 
 	}
 	ok = pvs__po_csr(al, pairs, p->so_count, p->solids, &p->so_first, &p->so);
 done:
-	pvs__free_array(al, pairs, cap, sizeof(uint32_t));
-	pvs__free_array(al, stack, (size_t)h.node_count + 1, sizeof(uint32_t));
-	pvs__free_array(al, keep, s->object_count + 1, 1);
+	PVS__FREE_N(al, pairs, cap);
+	PVS__FREE_N(al, stack, (size_t)h.node_count + 1);
+	PVS__FREE_N(al, keep, s->object_count + 1);
 	pvs__obvh_free(al, &h);
 	return ok;
 }
@@ -16620,18 +16623,18 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	uint32_t k, bound[6], *pairs = NULL, *kept;
 	pvs_box box = s->bounds;
 	int ok = 0;
-	memset(&b, 0, sizeof(b));
+	PVS__ZERO(b);
 	b.p = p;
-	b.scratch = (pvs__po_wind *)pvs__alloc_array(al, PVS__PO_SCRATCH, sizeof(pvs__po_wind));
-	b.planes = (uint32_t *)pvs__alloc_array(al, 2 * PVS__PO_SCRATCH, sizeof(uint32_t));
+	b.scratch = PVS__ALLOC_N(al, pvs__po_wind, PVS__PO_SCRATCH);
+	b.planes = PVS__ALLOC_N(al, uint32_t, 2 * PVS__PO_SCRATCH);
 	for (p->hash_size = 64; p->hash_size < (1u << 22) && p->hash_size < s->triangle_count / 2; p->hash_size *= 2) {
 	} /* ~a face plane per bucket (<= 1 per triangle) */
-	p->hash_head = (uint32_t *)pvs__alloc_array(al, p->hash_size, sizeof(uint32_t));
+	p->hash_head = PVS__ALLOC_N(al, uint32_t, p->hash_size);
 	if (!b.scratch || !b.planes || !p->hash_head) goto done;
 	kept = b.planes + PVS__PO_SCRATCH;
 	for (k = 0; k < p->hash_size; ++k) p->hash_head[k] = PVS__PO_NONE;
 	for (i = 0; i < env->cell_count; ++i) pvs__box_add_box(&box, env->cells + i);
-	for (k = 0; k < 3; ++k) p->ext = pvs__dmax(p->ext, (double)box.max[k] - box.min[k]);
+	PVS__FOR3(k) p->ext = pvs__dmax(p->ext, (double)box.max[k] - box.min[k]);
 	if (!(p->ext > 0.0)) p->ext = 1.0;
 	p->eps = 1e-9 * p->ext;
 	p->tol = 1e-6 * p->ext;
@@ -16646,9 +16649,9 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	p->solids = (uint32_t)count;
 	if (!pvs__po_solid_objects(p, s, frags)) goto done;
 	p->flag_cap = p->plane_count / 2;
-	p->on_path = (uint8_t *)pvs__alloc_array(al, p->flag_cap, 1);
-	p->stamp = (uint32_t *)pvs__alloc_array(al, p->flag_cap, sizeof(uint32_t));
-	p->facing = (uint32_t *)pvs__alloc_array(al, p->flag_cap, sizeof(uint32_t));
+	p->on_path = PVS__ALLOC_N(al, uint8_t, p->flag_cap);
+	p->stamp = PVS__ALLOC_N(al, uint32_t, p->flag_cap);
+	p->facing = PVS__ALLOC_N(al, uint32_t, p->flag_cap);
 	if (!p->on_path || !p->stamp || !p->facing) goto done;
 	memset(p->on_path, 0, p->flag_cap);
 	memset(p->stamp, 0, p->flag_cap * sizeof(uint32_t));
@@ -16666,14 +16669,14 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 			pvs__po_push(&b, &w, q->plane[k], p->root, (uint32_t)i);
 		}
 	}
-	pairs = (uint32_t *)pvs__alloc_array(al, 2 * p->portal_count + 2, sizeof(uint32_t));
+	pairs = PVS__ALLOC_N(al, uint32_t, 2 * p->portal_count + 2);
 	if (b.oom || !pairs) goto done;
 	for (i = 0; i < p->portal_count; ++i) {
 		pairs[2 * i] = p->portals[i].from;
 		pairs[2 * i + 1] = (uint32_t)i;
 	}
 	if (!pvs__po_csr(al, pairs, p->portal_count, (uint32_t)p->leaf_count, &p->lp_first, &p->lp)) goto done;
-	p->ep_first = (uint32_t *)pvs__alloc_array(al, p->portal_count + 1, sizeof(uint32_t));
+	p->ep_first = PVS__ALLOC_N(al, uint32_t, p->portal_count + 1);
 	if (!p->ep_first) goto done;
 	for (p->ep_first[0] = 0, i = 0; i < p->portal_count; ++i) { /* steps counted in 64 bits: <= 2^32 - 1 */
 		uint64_t next = (uint64_t)p->ep_first[i] + p->lp_first[p->portals[i].to + 1] - p->lp_first[p->portals[i].to];
@@ -16685,13 +16688,13 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 			pvs__po_box_down(p, s->object_boxes + ob.o, p->root, pvs__po_object_leaf, &ob);
 	ok = !b.oom && pvs__po_csr(al, p->lo_pairs, p->lo_count, (uint32_t)p->leaf_count, &p->lo_first, &p->lo);
 done:
-	pvs__free_array(al, pairs, 2 * p->portal_count + 2, sizeof(uint32_t));
-	pvs__free_array(al, b.scratch, PVS__PO_SCRATCH, sizeof(pvs__po_wind));
-	pvs__free_array(al, b.planes, 2 * PVS__PO_SCRATCH, sizeof(uint32_t));
-	pvs__free_array(al, p->lo_pairs, p->lo_cap, sizeof(uint32_t));
+	PVS__FREE_N(al, pairs, 2 * p->portal_count + 2);
+	PVS__FREE_N(al, b.scratch, PVS__PO_SCRATCH);
+	PVS__FREE_N(al, b.planes, 2 * PVS__PO_SCRATCH);
+	PVS__FREE_N(al, p->lo_pairs, p->lo_cap);
 	p->lo_pairs = NULL;
 	for (i = 0; i < count && frags; ++i) pvs__po_poly_free(al, frags + i);
-	pvs__free_array(al, frags, cap, sizeof(pvs__po_poly));
+	PVS__FREE_N(al, frags, cap);
 	return ok ? PVS_OK : PVS_ERROR_OUT_OF_MEMORY;
 }
 
@@ -16700,15 +16703,15 @@ PVS__STATIC pvs_result pvs__portal_bake_prepare(pvs__bake_env *env, const pvs_ba
 	pvs__poprep *p = (pvs__poprep *)pvs__alloc(&env->allocator, sizeof(pvs__poprep), 16);
 	*state = p;
 	if (!p) return PVS__OOM(err, "portal");
-	memset(p, 0, sizeof(*p));
+	PVS__ZERO(*p);
 	p->allocator = env->allocator;
 	p->budget = desc->portal.budget ? desc->portal.budget : PVS_PORTAL_BUDGET;
 	p->task_count = env->task_count;
-	p->task_cut = (uint32_t *)pvs__alloc_array(&p->allocator, p->task_count + 1, sizeof(uint32_t));
+	p->task_cut = PVS__ALLOC_N(&p->allocator, uint32_t, p->task_count + 1);
 	if (!p->task_cut || pvs__po_prepare(p, env) != PVS_OK)
 		return PVS__OOM(err, "portal: rooms and portals");
 	if (p->lost)
-		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "portal: a room or portal polygon of more than %u vertices",
+		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "portal: a room or portal polygon of more than %u vertices",
 						 PVS__PO_MAXW);
 	memset(p->task_cut, 0, (p->task_count + 1) * sizeof(uint32_t));
 	return PVS_OK;
@@ -16735,16 +16738,16 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	uint32_t k;
 	(void)flags;
 	(void)candidates; /* all tested: AUTO's statistics take its PVS as its single bake's */
-	memset(&f, 0, sizeof(f));
+	PVS__ZERO(f);
 	f.p = p;
 	f.scene = env->scene;
 	f.bits = bits;
 	for (i = 0; i < 8; ++i)
-		for (k = 0; k < 3; ++k) f.c[i][k] = ((i >> k) & 1) ? box->max[k] : box->min[k];
+		PVS__FOR3(k) f.c[i][k] = ((i >> k) & 1) ? box->max[k] : box->min[k];
 	mem = (unsigned char *)pvs__alloc(al, bytes, 16);
 	if (!mem) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, (int64_t)cell, 0, "portal flow of cell %u", cell);
 	f.slot_cap = 64;
-	f.slot = (uint32_t *)pvs__alloc_array(al, 2 * f.slot_cap, sizeof(uint32_t));
+	f.slot = PVS__ALLOC_N(al, uint32_t, 2 * f.slot_cap);
 	f.head = f.tail = PVS__PO_NONE;
 	f.leaves = (uint32_t *)(void *)mem;
 	f.start = (uint8_t *)(f.leaves + nl);
@@ -16766,8 +16769,8 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 		pvs__po_flood(&f);
 		if (task < p->task_count) ++p->task_cut[task];
 	}
-	pvs__free_array(al, f.reg, f.reg_cap, sizeof(pvs__po_region));
-	pvs__free_array(al, f.slot, 2 * f.slot_cap, sizeof(uint32_t));
+	PVS__FREE_N(al, f.reg, f.reg_cap);
+	PVS__FREE_N(al, f.slot, 2 * f.slot_cap);
 	pvs__free(al, mem, bytes, 16);
 	return PVS_OK;
 }
@@ -16782,7 +16785,7 @@ PVS__STATIC int pvs__portal_price(const pvs_bake_desc *desc, const void *state) 
 		const pvs_box *b = PVS__SAMPLE_CELL(desc, s);
 		float o[3], d[3] = {0, 0, 0};
 		pvs_hit hit;
-		for (k = 0; k < 3; ++k) o[k] = 0.5f * (b->min[k] + b->max[k]);
+		PVS__FOR3(k) o[k] = 0.5f * (b->min[k] + b->max[k]);
 		d[up] = 1.0f;
 		price += !pvs_scene_raycast(desc->scene, o, d, FLT_MAX, &hit);
 	}
@@ -16797,7 +16800,7 @@ PVS__STATIC const pvs__bake_method pvs__portal_method = {
 PVS_API void pvs_bake_get_portal_info(const pvs_bake *b, pvs_portal_info *info) {
 	const pvs__poprep *p = b ? (const pvs__poprep *)pvs__bake_method_state(b, PVS_METHOD_PORTAL) : NULL;
 	uint32_t i;
-	memset(info, 0, sizeof(*info));
+	PVS__ZERO(*info);
 	if (!p) return;
 	info->solids = p->solids;
 	info->planes = (uint32_t)(p->plane_count / 2);
@@ -16825,15 +16828,15 @@ PVS_API const char *pvs_method_name(pvs_method m) {
 PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t points, uint64_t *state, float p[3]) {
 	int k;
 	if (i < 8) {
-		for (k = 0; k < 3; ++k) p[k] = (i >> k) & 1u ? cell->max[k] : cell->min[k];
+		PVS__FOR3(k) p[k] = (i >> k) & 1u ? cell->max[k] : cell->min[k];
 	} else if (i < 14) {
 		int axis = (int)(i - 8) / 2;
-		for (k = 0; k < 3; ++k) p[k] = 0.5f * (cell->min[k] + cell->max[k]);
+		PVS__FOR3(k) p[k] = 0.5f * (cell->min[k] + cell->max[k]);
 		p[axis] = (i - 8) & 1u ? cell->max[axis] : cell->min[axis];
 	} else {
 		uint64_t m = points - 14u, j = i - 14u, g = 1, strata = 1, stratum;
 		int axes = 0;
-		for (k = 0; k < 3; ++k) axes += cell->max[k] > cell->min[k];
+		PVS__FOR3(k) axes += cell->max[k] > cell->min[k];
 		if (axes) {
 			for (;;) {
 				uint64_t total = 1;
@@ -16843,7 +16846,7 @@ PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t poi
 			}
 		}
 		stratum = j * strata / m;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			float lo = cell->min[k], hi = cell->max[k], f;
 			if (!(hi > lo)) { p[k] = lo; continue; }
 			f = ((float)(stratum % g) + pvs__random01(state)) / (float)g;
@@ -16885,7 +16888,7 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 		rot[2][0] = 2.0f * (q0 * q2 - q1 * q3);
 		rot[2][1] = 2.0f * (q1 * q2 + q0 * q3);
 		rot[2][2] = 1.0f - 2.0f * (q0 * q0 + q1 * q1);
-		for (k = 0; k < 3; ++k) pb.min[k] = pb.max[k] = p[k];
+		PVS__FOR3(k) pb.min[k] = pb.max[k] = p[k];
 		tmax = 2.0f * diagonal + sqrtf(pvs__box_distance2(&pb, &bounds));
 		/* ... of spherical Fibonacci set: equal solid angle per ray */
 		for (j = 0; j < rays_per_point; ++j) {
@@ -16897,7 +16900,7 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 			f[0] = r * cosf(phi);
 			f[1] = r * sinf(phi);
 			f[2] = z;
-			for (k = 0; k < 3; ++k) dir[k] = rot[k][0] * f[0] + rot[k][1] * f[1] + rot[k][2] * f[2];
+			PVS__FOR3(k) dir[k] = rot[k][0] * f[0] + rot[k][1] * f[1] + rot[k][2] * f[2];
 			++rays;
 			hit.t = tmax;
 			if (pvs_scene_raycast(scene, p, dir, tmax, &hit) && hit.object != PVS_NO_OBJECT &&
@@ -16927,7 +16930,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 			float p[3], q[3], dir[3], su = sqrtf(pvs__random01(&state)), b = pvs__random01(&state), len = 0.0f;
 			float w1 = su * (1.0f - b), w2 = su * b, w0 = 1.0f - w1 - w2;
 			pvs_hit hit;
-			for (k = 0; k < 3; ++k) {
+			PVS__FOR3(k) {
 				float c = (v0[k] + v1[k] + v2[k]) * (1.0f / 3.0f);
 				p[k] = cell->min[k] + pvs__random01(&state) * (cell->max[k] - cell->min[k]);
 				q[k] = 0.99f * (w0 * v0[k] + w1 * v1[k] + w2 * v2[k]) + 0.01f * c;
@@ -16936,7 +16939,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 			}
 			len = sqrtf(len);
 			if (!(len > 0.0f)) continue;
-			for (k = 0; k < 3; ++k) dir[k] /= len;
+			PVS__FOR3(k) dir[k] /= len;
 			++rays;
 			hit.t = len * 1.001f + 1e-6f;
 			if (pvs_scene_raycast(scene, p, dir, hit.t, &hit) && hit.object != PVS_NO_OBJECT &&
@@ -17060,7 +17063,7 @@ PVS__STATIC int pvs__ep_frame(const pvs_extproj_plane *pl, pvs__epframe *f) { re
 PVS__STATIC double pvs__ep_tri_normal(const float *a, const float *b, const float *c, double n[3]) {
 	double e1[3], e2[3];
 	int k;
-	for (k = 0; k < 3; ++k) { e1[k] = (double)b[k] - a[k]; e2[k] = (double)c[k] - a[k]; }
+	PVS__FOR3(k) { e1[k] = (double)b[k] - a[k]; e2[k] = (double)c[k] - a[k]; }
 	n[0] = e1[1] * e2[2] - e1[2] * e2[1];
 	n[1] = e1[2] * e2[0] - e1[0] * e2[2];
 	n[2] = e1[0] * e2[1] - e1[1] * e2[0];
@@ -17289,7 +17292,7 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
 	double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
 	int i, k;
 	for (i = 0; i < count; ++i)
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			lo[k] = pvs__dmin(lo[k], P[i][k]);
 			hi[k] = pvs__dmax(hi[k], P[i][k]);
 		}
@@ -17363,7 +17366,7 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
 		pvs_box b = pvs__box_empty();
 		for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
 		for (i = 2; i < count && !(len > 0.0); ++i) len = pvs__ep_tri_normal(points, points + 3, points + 3 * i, n);
-		for (i = 0; i < 3; ++i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
+		PVS__FOR3(i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
 		if (!(len > 0.0)) return 0;
 		for (i = 0; i < count && !solid; ++i) {
 			double d = pvs__ep_plane_dist(n, points + 3 * i, points);
@@ -17583,7 +17586,7 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
 			int k;
 			for (i = 1; i + 1 < n; ++i) {
 				double e1[3], e2[3];
-				for (k = 0; k < 3; ++k) {
+				PVS__FOR3(k) {
 					e1[k] = (double)pts[i][k] - pts[0][k];
 					e2[k] = (double)pts[i + 1][k] - pts[0][k];
 				}
@@ -17604,8 +17607,8 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 	int i, j, k;
 	double n[3], len = pvs__ep_tri_normal(A[0], A[1], A[2], n), scale = 0.0;
 	if (!(len > 0.0)) return 0;
-	for (i = 0; i < 3; ++i)
-		for (j = 0; j < 3; ++j) {
+	PVS__FOR3(i)
+		PVS__FOR3(j) {
 			const float *a0 = A[i], *a1 = A[(i + 1) % 3], *x;
 			double dev;
 			if (!(pvs__ep_same(a0, B[j]) && pvs__ep_same(a1, B[(j + 2) % 3])) &&
@@ -17613,7 +17616,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 				continue;
 			x = B[(j + 1) % 3];
 			q[0] = a0; q[1] = x; q[2] = a1; q[3] = A[(i + 2) % 3];
-			for (k = 0; k < 3; ++k)
+			PVS__FOR3(k)
 				scale = pvs__dmax(scale,
 								  pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
 			/* hull exceeds two triangles by <= this: slack */
@@ -17842,11 +17845,11 @@ PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
 	PVS__FREE_N(a, w->hp, 2 * (3 * n + 1));
 	PVS__FREE_N(a, w->hh, 2 * (3 * n + 1));
 	PVS__FREE_N(a, w->bed, 3 * n);
-	memset(w, 0, sizeof(*w));
+	PVS__ZERO(*w);
 }
 
 PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, size_t n) {
-	memset(w, 0, sizeof(*w));
+	PVS__ZERO(*w);
 	w->cap = n;
 	w->ref = PVS__ALLOC_N(a, pvs__vx_vkey, 3 * n);
 	w->canon = PVS__ALLOC_N(a, uint32_t, 3 * n);
@@ -17878,12 +17881,12 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
 	uint32_t t, i, k;
 	double scale = 0.0, worst = 0.0;
 	for (i = 0; i < n; ++i)
-		for (k = 0; k < 3; ++k)
+		PVS__FOR3(k)
 			scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]) + pvs__dabs((double)pts[i][k]));
 	for (t = 0; t < tn; ++t) {
 		const float *c[3];
 		double nrm[3], len, lo = 0.0, hi = 0.0;
-		for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
+		PVS__FOR3(k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
 		len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
 		if (!(len > 0.0)) return 0;
 		for (i = 0; i < n; ++i) {
@@ -17908,19 +17911,19 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
 	for (t = 0; t < tn; ++t) {
 		const float *c[3];
 		double l;
-		for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
+		PVS__FOR3(k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
 		l = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
 		if (l > bl) { bl = l; best = t; }
 	}
 	if (!(bl > 0.0)) return 1;
 	{
 		const float *c[3];
-		for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[best] + k];
+		PVS__FOR3(k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[best] + k];
 		bl = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
 		c0 = c[0];
 	}
 	for (i = 0; i < n; ++i)
-		for (k = 0; k < 3; ++k)
+		PVS__FOR3(k)
 			scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - c0[k]) + pvs__dabs((double)pts[i][k]));
 	for (i = 0; i < n; ++i) {
 		double d = pvs__ep_plane_dist(nrm, pts[i], c0) / bl;
@@ -17935,7 +17938,7 @@ PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, 
 								 uint32_t nuv, int *axis, float *c, int *side) {
 	int k;
 	uint32_t i;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		float v = vpos[bnd[0]][k];
 		int below = 0, above = 0;
 		for (i = 0; i < 2 * nb && vpos[bnd[i]][k] == v; ++i) {}
@@ -17960,7 +17963,7 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
 	int k;
 	if (!(pvs__ep_tri_normal(B[0], B[1], B[2], nb) > 0.0) || !(na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.0))
 		return 0;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		double d = pvs__ep_plane_dist(na, B[k], A[0]) / la;
 		if (pvs__dabs(d) > 1e-6 * scale) return 0;
 	}
@@ -17976,7 +17979,7 @@ PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t 
 									   uint64_t *out) {
 	uint32_t i, k, ne = 0, nb = 0;
 	for (i = 0; i < n; ++i)
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			uint32_t t = tl[ids ? (uint32_t)(ids[i] & 0xffffffffu) : i];
 			uint64_t x = w->canon[3 * t + k], y = w->canon[3 * t + (k + 1) % 3];
 			if (x != y) out[ne++] = x < y ? (x << 32) | y : (y << 32) | x;
@@ -18040,7 +18043,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 	}
 	{
 		const float *a0 = PVS__EP_TRI((uint32_t)(w->edges[m] & 0xffffffffu), 0);
-		for (k = 0; k < 3; ++k) o->pn[k] = (float)(nr[k] / lr);
+		PVS__FOR3(k) o->pn[k] = (float)(nr[k] / lr);
 		o->pd = (float)(o->pn[0] * (double)a0[0] + o->pn[1] * (double)a0[1] + o->pn[2] * (double)a0[2]);
 	}
 	for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
@@ -18053,7 +18056,7 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 									   pvs__epprepwork *w, double scale) {
 	uint32_t j, k, ne = 0, g;
 	for (j = 0; j < n; ++j)
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			uint64_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
 			if (x == y) continue;
 			w->edges[ne++] = (x < y ? (x << 42) | (y << 21) : (y << 42) | (x << 21)) | j;
@@ -18068,7 +18071,7 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 				uint32_t ja = (uint32_t)(w->edges[k] & 0x1fffffu), jb = (uint32_t)(w->edges[k2] & 0x1fffffu), m;
 				const float *A[3], *B[3];
 				double na[3], la;
-				for (m = 0; m < 3; ++m) { A[m] = PVS__EP_TRI(ja, m); B[m] = PVS__EP_TRI(jb, m); }
+				PVS__FOR3(m) { A[m] = PVS__EP_TRI(ja, m); B[m] = PVS__EP_TRI(jb, m); }
 				la = pvs__ep_tri_normal(A[0], A[1], A[2], na);
 				if (!(la > 0.0) || !pvs__ep_coplanar(A, na, la, B, scale) || !pvs__ep_coplanar(B, na, la, A, scale))
 					continue;
@@ -18091,14 +18094,14 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 	for (h = m; h < m + cnt; ++h) {
 		uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
 		const float *C[3];
-		for (c = 0; c < 3; ++c) {
+		PVS__FOR3(c) {
 			const float *x = C[c] = PVS__EP_TRI(t, c);
 			*dev = pvs__dmax(*dev, pvs__dabs(pvs__ep_plane_dist(nr, x, A[0])) / lr);
 		}
 		*area += 0.5 *
 			pvs__dabs(((double)C[1][u] - C[0][u]) * ((double)C[2][v] - C[0][v]) -
 					  ((double)C[2][u] - C[0][u]) * ((double)C[1][v] - C[0][v]));
-		for (c = 0; c < 3; ++c) {
+		PVS__FOR3(c) {
 			const float *x = C[c], *y = C[(c + 1) % 3];
 			float P0[2], P1[2];
 			pvs__epedge2 *ed = w->e2 + e++;
@@ -18146,7 +18149,7 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
 		if (lb > 0.0 && nb[0] * nr[0] + nb[1] * nr[1] + nb[2] * nr[2] > 0.0) {
 			for (h = m; h < m + cnt; ++h) {
 				uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
-				for (c = 0; c < 3; ++c) {
+				PVS__FOR3(c) {
 					const float *x = PVS__EP_TRI(t, c);
 					dev2 = pvs__dmax(dev2, pvs__dabs(pvs__ep_plane_dist(nb, x, q3[0])) / lb);
 				}
@@ -18170,10 +18173,10 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
 	for (j = 0; j < n; ++j) { w->used[j] = 0; w->gparent[j] = j; }
 	if (n < 2 || 3 * (uint64_t)n >= (1u << 21)) return PVS_OK;
 	for (j = 0; j < n; ++j)
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			const float *x = PVS__EP_TRI(j, k);
 			int c;
-			for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, 2.0 * pvs__dabs((double)x[c]));
+			PVS__FOR3(c) scale = pvs__dmax(scale, 2.0 * pvs__dabs((double)x[c]));
 		}
 	pvs__ep_planar_groups(s, t0, tl, n, w, scale);
 	/* groups: sorted (root, triangle) pairs, root = group's first triangle */
@@ -18188,7 +18191,7 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
 		m = g;
 		g = h;
 		if (cnt < 2) continue;
-		for (k = 0; k < 3; ++k) A[k] = PVS__EP_TRI(root, k);
+		PVS__FOR3(k) A[k] = PVS__EP_TRI(root, k);
 		lr = pvs__ep_tri_normal(A[0], A[1], A[2], nr);
 		if (!(lr > 0.0)) continue;
 		for (k = 1; k < 3; ++k)
@@ -18255,7 +18258,7 @@ PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32
 	uint32_t j, k, nb = pvs__ep_odd_edges(w, tl, NULL, n, w->edges);
 	*nuv = 0;
 	for (j = 0; j < n; ++j)
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			uint32_t v = w->canon[3 * tl[j] + k];
 			if (w->mark[v] != comp) { w->mark[v] = comp; w->uv[(*nuv)++] = v; }
 		}
@@ -18272,11 +18275,11 @@ PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scen
 		const float *tri[3], *nxt[3], *q[4];
 		double nrm[3];
 		if (w->used[j]) continue;
-		for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+		PVS__FOR3(k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
 		if (!(pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
 		if (j + 1 < n && !w->used[j + 1]) {
 			double slack;
-			for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
+			PVS__FOR3(k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
 			if (pvs__ep_quad(tri, nxt, q, &slack)) {
 				pvs__ep_add(p, q, 4, 0, slack);
 				++j;
@@ -18308,13 +18311,13 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 		if (!p->bedge) return r;
 	}
 	sl = p->slc + p->slc_count++;
-	memset(sl, 0, sizeof(*sl));
+	PVS__ZERO(*sl);
 	sl->box = pvs__box_empty();
 	sl->first = (uint32_t)p->stri_count;
 	sl->count = n;
 	for (j = 0; j < n; ++j) {
 		p->stri[p->stri_count++] = t0 + tl[j];
-		for (k = 0; k < 3; ++k)
+		PVS__FOR3(k)
 			pvs__box_add_point(&sl->box, s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k]);
 	}
 	sl->capped = capped;
@@ -18382,7 +18385,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 	for (j = 0; j < n; ++j) { /* zero-area triangle blocks no ray: not sliced */
 		const float *c3[3];
 		double nrm[3];
-		for (k = 0; k < 3; ++k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+		PVS__FOR3(k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
 		if (!(pvs__ep_tri_normal(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
 	}
 	if (j < n || (!closed && !capped)) return PVS_OK;
@@ -18505,12 +18508,12 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
 		const uint32_t *ix = s->indices + 3 * (size_t)key[g].tri;
 		const float *c[3];
 		int l;
-		for (l = 0; l < 3; ++l) c[l] = s->positions + 3 * (size_t)ix[l];
+		PVS__FOR3(l) c[l] = s->positions + 3 * (size_t)ix[l];
 		w->tarea[g] = 0.5 *
 			pvs__dabs(((double)c[1][u] - c[0][u]) * ((double)c[2][v] - c[0][v]) -
 					  ((double)c[2][u] - c[0][u]) * ((double)c[1][v] - c[0][v]));
 		w->uf[g] = (uint32_t)g;
-		for (l = 0; l < 3; ++l) {
+		PVS__FOR3(l) {
 			const float *x = c[l], *y = c[(l + 1) % 3];
 			float A[2], B[2];
 			pvs__epedge2 *ed = e + 3 * g + (size_t)l;
@@ -18627,7 +18630,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
 	if (!nkey) return PVS_OK;
 	key = PVS__ALLOC_N(a, pvs__epskey, nkey);
 	if (!key) return PVS_ERROR_OUT_OF_MEMORY;
-	memset(&w, 0, sizeof(w));
+	PVS__ZERO(w);
 	nkey = 0;
 	for (t = 0; t < s->triangle_count; ++t) {
 		const uint32_t *ix = s->indices + 3 * (size_t)t;
@@ -18654,7 +18657,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
 		i = j;
 	}
 	D = 0.0;
-	for (t = 0; t < 3; ++t) D = pvs__dmax(D, 2.0 * ((double)s->bounds.max[t] - s->bounds.min[t]) + 1.0);
+	PVS__FOR3(t) D = pvs__dmax(D, 2.0 * ((double)s->bounds.max[t] - s->bounds.min[t]) + 1.0);
 	for (o = 0; o < p->occ_count; ++o) {
 		pvs__epocc *oc = p->occ + o;
 		uint32_t sh;
@@ -18754,7 +18757,7 @@ PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err)
 				if (p->occ[q].area > p->class_area[c]) p->class_area[c] = p->occ[q].area;
 			}
 		if (r != PVS_OK) break;
-		memset(&kd, 0, sizeof(kd));
+		PVS__ZERO(kd);
 		kd.boxes = boxes;
 		kd.count = m;
 		kd.allocator = *a;
@@ -18774,7 +18777,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 	uint32_t t, i;
 	pvs_result r;
 	*out = NULL;
-	memset(&w, 0, sizeof(w)); /* freed below even if never allocated */
+	PVS__ZERO(w); /* freed below even if never allocated */
 	for (i = 0; i < s->occluder_count; ++i) {
 		const pvs_occluder_desc *d = s->occluders + i;
 		if (d->kind == PVS_OCCLUDER_BOX) { occ_cap += 1; pt_cap += 8; }
@@ -18784,10 +18787,10 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 		}
 	}
 	if (occ_cap > 0xffffffffu || pt_cap > 0xffffffffu)
-		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "extproj: too many occluders");
+		return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "extproj: too many occluders");
 	p = (pvs__extproj_prep *)pvs__alloc(a, sizeof(*p), 16);
 	if (!p) return PVS__OOM(err, "extproj occluders");
-	memset(p, 0, sizeof(*p));
+	PVS__ZERO(*p);
 	p->allocator = *a;
 	p->occ_capacity = occ_cap;
 	p->pt_capacity = pt_cap;
@@ -18808,18 +18811,18 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 	pvs__ep_work_free(a, &w);
 	if (r != PVS_OK) {
 		pvs__extproj_prep_destroy(p);
-		return pvs__fail(err, r, -1, 0, "extproj: slices of the closed meshes");
+		return PVS__FAIL(err, r, "extproj: slices of the closed meshes");
 	}
 	pvs__ep_prepare_volumes(p, s);
 	r = pvs__ep_sheets(p, s);
 	if (r != PVS_OK) {
 		pvs__extproj_prep_destroy(p);
-		return pvs__fail(err, r, -1, 0, "extproj: sheets");
+		return PVS__FAIL(err, r, "extproj: sheets");
 	}
 	r = pvs__ep_class_trees(p, err);
 	if (r != PVS_OK) {
 		pvs__extproj_prep_destroy(p);
-		return pvs__fail(err, r, -1, 0, "extproj: occluder trees");
+		return PVS__FAIL(err, r, "extproj: occluder trees");
 	}
 	*out = p;
 	return PVS_OK;
@@ -18871,13 +18874,13 @@ PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj
 		int k, far[3], nf = 0;
 		double pt[2][2];
 		int np = 0;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			v[k] = s->positions + 3 * (size_t)ix[k];
 			far[k] = f->s * ((double)v[k][f->a] - f->face) >= f->W;
 			nf += far[k];
 		}
 		if (nf == 0 || nf == 3) continue;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			int l = (k + 1) % 3;
 			if (far[k] == far[l]) continue;
 			pvs__ep_cross(f, far[k] ? v[l] : v[k], far[k] ? v[k] : v[l], &pt[np][0], &pt[np][1], mag);
@@ -19094,23 +19097,23 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
 	dir[0] = (double)o->pn[1] * ea[2] - (double)o->pn[2] * ea[1];
 	dir[1] = (double)o->pn[2] * ea[0] - (double)o->pn[0] * ea[2];
 	dir[2] = (double)o->pn[0] * ea[1] - (double)o->pn[1] * ea[0];
-	for (c = 0; c < 3; ++c) best = pvs__dmax(best, pvs__dabs(dir[c]));
+	PVS__FOR3(c) best = pvs__dmax(best, pvs__dabs(dir[c]));
 	if (!(best > 1e-6)) return 0; /* plane nearly parallel to cut: nothing kept */
 	for (q = 0; q < n; ++q) { /* in place: kept edges move down (nc <= q) */
 		double A[3], B[3], wa, wb, *out = E + 6 * (size_t)nc;
 		int ia, ib;
-		for (c = 0; c < 3; ++c) { A[c] = E[6 * (size_t)q + c]; B[c] = E[6 * (size_t)q + 3 + c]; }
+		PVS__FOR3(c) { A[c] = E[6 * (size_t)q + c]; B[c] = E[6 * (size_t)q + 3 + c]; }
 		wa = f.s * (A[f.a] - f.face);
 		wb = f.s * (B[f.a] - f.face);
 		ia = ge ? wa >= cdepth : wa <= cdepth;
 		ib = ge ? wb >= cdepth : wb <= cdepth;
 		if (!ia && !ib) continue;
-		for (c = 0; c < 3; ++c) { out[c] = A[c]; out[3 + c] = B[c]; }
+		PVS__FOR3(c) { out[c] = A[c]; out[3 + c] = B[c]; }
 		if (ia != ib) {
 			double t = (cdepth - wa) / (wb - wa), *end = ia ? out + 3 : out;
-			for (c = 0; c < 3; ++c) end[c] = A[c] + (B[c] - A[c]) * t;
+			PVS__FOR3(c) end[c] = A[c] + (B[c] - A[c]) * t;
 			end[f.a] = f.face + f.s * cdepth;
-			for (c = 0; c < 3; ++c) xs[nx][c] = end[c];
+			PVS__FOR3(c) xs[nx][c] = end[c];
 			xs[nx][3] = end[0] * dir[0] + end[1] * dir[1] + end[2] * dir[2];
 			++nx;
 		}
@@ -19126,7 +19129,7 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
 	}
 	for (q = 0; q + 1 < nx; q += 2) {
 		double *out = E + 6 * (size_t)nc++;
-		for (c = 0; c < 3; ++c) { out[c] = xs[q][c]; out[3 + c] = xs[q + 1][c]; }
+		PVS__FOR3(c) { out[c] = xs[q][c]; out[3 + c] = xs[q + 1][c]; }
 	}
 	return nc;
 }
@@ -19215,12 +19218,12 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 	X[f->u] = f->u0 + ((double)xm + 0.5) / f->su;
 	X[f->v] = f->v0 + ((double)row + 0.5) / f->sv;
 	X[f->a] = f->face + f->s * f->W;
-	for (c = 0; c < 3; ++c) dir[c] = X[c] - world0[c];
+	PVS__FOR3(c) dir[c] = X[c] - world0[c];
 	den = pn[0] * dir[0] + pn[1] * dir[1] + pn[2] * dir[2];
 	if (!(pvs__dabs(den) > 1e-9 * sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]))) return 0;
 	t = ((double)o->pd - (pn[0] * world0[0] + pn[1] * world0[1] + pn[2] * world0[2])) / den;
 	if (front ? !(t > 0.0 && t <= 1.0) : !(t >= 1.0)) return 0;
-	for (c = 0; c < 3; ++c) cp[c] = world0[c] + dir[c] * t;
+	PVS__FOR3(c) cp[c] = world0[c] + dir[c] * t;
 	for (q = 0; q < n; ++q) { /* parity and distance to boundary, in (pu, pv) */
 		const double *a = E + 6 * (size_t)q, *b = a + 3;
 		double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
@@ -19258,7 +19261,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 		double w = f.s * (E[3 * e + f.a] - f.face);
 		wmin = pvs__dmin(wmin, w);
 		wmax = pvs__dmax(wmax, w);
-		for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs(E[3 * e + c]));
+		PVS__FOR3(c) scale = pvs__dmax(scale, pvs__dabs(E[3 * e + c]));
 	}
 	if (!(wmin - slack > margin)) {
 		/* reaching past cell's face (wall beside cell): part at w >= margin, exact input only */
@@ -19300,7 +19303,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 	for (e = 0; e < n; ++e)
 		if (!pvs__ep_mark_penumbra(&f, E + 6 * (size_t)e, base, cmark, i0, i1, j0, j1)) break;
 	/* (2) per run of unmarked pixels */
-	for (c = 0; c < 3; ++c) pn[c] = o->pn[c];
+	PVS__FOR3(c) pn[c] = o->pn[c];
 	for (c = 1; c < 3; ++c)
 		if (pvs__dabs(pn[c]) > pvs__dabs(pn[pax])) pax = c;
 	V0[0] = 0.5 * (f.cu[0] + f.cu[1]);
@@ -19717,7 +19720,7 @@ PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, 
 PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32_t res, pvs_extproj_plane *pl) {
 	int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
 	double ext = (double)cell->max[a] - cell->min[a];
-	memset(pl, 0, sizeof(*pl));
+	PVS__ZERO(*pl);
 	pl->cell = *cell;
 	pl->axis = (uint32_t)a;
 	pl->side = d & 1 ? -1 : 1;
@@ -19854,7 +19857,7 @@ PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w
 PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, const float *b, const float *c) {
 	double A[3], B[3], C[3], la, lb, lc, num, den;
 	int k;
-	for (k = 0; k < 3; ++k) { A[k] = a[k] - e[k]; B[k] = b[k] - e[k]; C[k] = c[k] - e[k]; }
+	PVS__FOR3(k) { A[k] = a[k] - e[k]; B[k] = b[k] - e[k]; C[k] = c[k] - e[k]; }
 	la = sqrt(A[0] * A[0] + A[1] * A[1] + A[2] * A[2]);
 	lb = sqrt(B[0] * B[0] + B[1] * B[1] + B[2] * B[2]);
 	lc = sqrt(C[0] * C[0] + C[1] * C[1] + C[2] * C[2]);
@@ -19873,7 +19876,7 @@ PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__ep
 		for (i = 1; i + 1 < o->count; ++i) sum += pvs__ep_tri_solid_angle(e, q, q + 3 * i, q + 3 * i + 3);
 	} else {
 		int k;
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			int u = (k + 1) % 3, v = (k + 2) % 3;
 			float f[4][3];
 			if (e[k] >= o->box.min[k] && e[k] <= o->box.max[k]) continue;
@@ -19951,7 +19954,7 @@ PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, flo
 			!(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
 			!pvs_bitset_test(w->candidates, o->object))
 			continue; /* §6.1: hidden from parent cell, so redundant (safe to leave out) */
-		for (d = 0; d < 3; ++d) {
+		PVS__FOR3(d) {
 			double g = w->centre[d] < o->box.min[d] ? o->box.min[d] - w->centre[d]
 				: w->centre[d] > o->box.max[d]      ? w->centre[d] - o->box.max[d]
 													: 0.0;
@@ -19975,7 +19978,7 @@ PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_pre
 	pvs__epselect w;
 	uint32_t i, d;
 	pvs_result r;
-	memset(&w, 0, sizeof(w));
+	PVS__ZERO(w);
 	w.scene = s;
 	w.p = p;
 	w.cell = cell;
@@ -19984,7 +19987,7 @@ PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_pre
 	w.n = n;
 	w.nsel = nsel;
 	w.seen = seen;
-	for (i = 0; i < 3; ++i) w.centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
+	PVS__FOR3(i) w.centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
 	for (d = 0; d < 6; ++d) nsel[d] = 0;
 	memset(seen, 0, PVS_BITSET_WORDS(p->occ_count) * sizeof(pvs_word));
 	/* largest first: heaps fill with high scores, pruning rest early */
@@ -20296,7 +20299,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 	Wend += 1e-3 * (Wend + ext);
 	if (!(W0 < Wend)) return PVS_OK;
 	ratio = pow(Wend / W0, 1.0 / (double)prm->sweep);
-	memset(&sl, 0, sizeof(sl));
+	PVS__ZERO(sl);
 	sl.scene = s;
 	sl.p = p;
 	sl.cell = cell;
@@ -20358,8 +20361,8 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
 	int sheet_side[PVS__EP_MAX_SHEETS];
 	size_t level_floats = pvs__ep_pyramid_size(prm->res, prm->res, levels);
 	pvs_result r = PVS_OK;
-	memset(&c, 0, sizeof(c));
-	memset(&w, 0, sizeof(w));
+	PVS__ZERO(c);
+	PVS__ZERO(w);
 	c.scene = s;
 	c.cell = *cell;
 	c.bits = bits;
@@ -20468,7 +20471,7 @@ PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_b
 	int preview = (env->flags & PVS_BAKE_PREVIEW) != 0;
 	*state = x;
 	if (!x) return PVS__OOM(err, "extproj");
-	memset(x, 0, sizeof(*x));
+	PVS__ZERO(*x);
 	x->allocator = env->allocator;
 	x->prm.res = desc->extproj.resolution ? desc->extproj.resolution
 		: preview                         ? PVS_EXTPROJ_PREVIEW_RESOLUTION
@@ -20911,8 +20914,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 	nu = (uint32_t)ceil(((double)cell->max[u] - cell->min[u]) / spacing) + 1u;
 	nv = (uint32_t)ceil(((double)cell->max[v] - cell->min[v]) / spacing) + 1u;
 	if (nu > 4096u || nv > 4096u)
-		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu,
-						 nv);
+		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
 	hz = (pvs__hz *)pvs__alloc(&o->allocator, sizeof(pvs__hz), 16);
 	remaining = PVS__ALLOC_N(&o->allocator, uint32_t, nnodes);
 	stack = PVS__ALLOC_N(&o->allocator, uint32_t, nnodes);
@@ -20937,7 +20939,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 			 ob = pvs_bitset_next(visible, s->object_count, ob + 1))
 			pvs__shrink_found(&w, ob);
 	}
-	memset(hz, 0, sizeof(*hz));
+	PVS__ZERO(*hz);
 	pvs__hz_init(hz);
 	hz->H = cell->max[up];
 	pvs__shrink_walk_tree(&w, PVS__SHRINK_NEAR, stack);
@@ -20974,7 +20976,7 @@ PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, 
 	else { *dn = (double)p[dax] - bx->max[dax]; *df = (double)p[dax] - bx->min[dax]; }
 	if (!(*df > 0.0)) return 0;
 	lim = 1.1 * *df;
-	for (l = 0; l < 3; ++l)
+	PVS__FOR3(l)
 		if (l != dax && ((double)bx->min[l] - p[l] > lim || (double)bx->max[l] - p[l] < -lim)) return 0;
 	return 1;
 }
@@ -21055,8 +21057,8 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
 		++nsel;
 	}
 	w->st->occluders_drawn += nsel;
-	memset(&cam, 0, sizeof(cam));
-	for (k = 0; k < 3; ++k) cam.eye[k] = p[k];
+	PVS__ZERO(cam);
+	PVS__FOR3(k) cam.eye[k] = p[k];
 	cam.forward[dax] = dir & 1 ? 1.0f : -1.0f;
 	cam.up[(dax + 1) % 3] = 1.0f;
 	cam.fov_y = 1.6f; /* a little over 90 degrees: six frusta overlap */
@@ -21079,7 +21081,7 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
 	uint32_t n2 = (uint32_t)ceil(((double)cell->max[a2] - cell->min[a2]) / spacing) + 1u;
 	uint32_t a, b, dir;
 	if (n1 > 1024u || n2 > 1024u)
-		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
+		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED,
 						 "a cell face of %u x %u samples: eps too small for the cell", n1, n2);
 	for (a = 0; a < n1; ++a)
 		for (b = 0; b < n2; ++b) {
@@ -21112,12 +21114,12 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
 									  2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
 	pvs_box grown;
 	int k;
-	memset(&w, 0, sizeof(w));
+	PVS__ZERO(w);
 	w.s = s;
 	w.o = o;
 	w.st = st;
 	w.nearp = 0.05f * eps;
-	memset(&rd, 0, sizeof(rd));
+	PVS__ZERO(rd);
 	rd.width = rd.height = PVS__SHRINK_RES;
 	rd.max_mesh_triangles = nb ? (nb < 4096u ? 12 * nb : 49152u) : 12u;
 	rd.allocator = o->allocator;
@@ -21145,7 +21147,7 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
 		for (c = 0; c < 36; ++c) w.idx[36 * i + c] = 8 * i + quad[c];
 	}
 	grown = *cell;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		grown.min[k] -= 2.0f * w.nearp + 1e-4f * eps;
 		grown.max[k] += 2.0f * w.nearp + 1e-4f * eps;
 	}
@@ -21174,11 +21176,11 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 								   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err) {
 	pvs_result res;
 	pvs_shrink_stats st;
-	memset(&st, 0, sizeof(st));
-	if (stats) memset(stats, 0, sizeof(*stats));
+	PVS__ZERO(st);
+	if (stats) PVS__ZERO(*stats);
 	if (!s || !o || !cell || !visible || o->scene != s)
 		return PVS__BAD_ARG(err, "NULL argument or occluders of another scene");
-	if (!pvs__box_valid(cell)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "cell is not a valid box");
+	if (!pvs__box_valid(cell)) return PVS__FAIL(err, PVS_ERROR_BAD_CELL, "cell is not a valid box");
 	if ((int)mode < 0 || mode >= PVS_SHRINK_MODE_COUNT)
 		return PVS__BAD_ARG(err, "unknown mode %d", (int)mode);
 	if (mode == PVS_SHRINK_AUTO) mode = o->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
@@ -21189,7 +21191,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 		uint32_t i;
 		int k;
 		for (i = 0; i < o->info.excluded_cells && !st.excluded; ++i) {
-			for (k = 0; k < 3; ++k)
+			PVS__FOR3(k)
 				if (cell->min[k] < o->excluded_boxes[i].min[k] || cell->max[k] > o->excluded_boxes[i].max[k]) break;
 			st.excluded = k == 3;
 		}
@@ -21268,14 +21270,14 @@ PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_ba
 	sh = (pvs__shrink_bake *)pvs__alloc(&env->allocator, sizeof(pvs__shrink_bake), 16);
 	*state = sh;
 	if (!sh) return PVS__OOM(err, "shrink");
-	memset(sh, 0, sizeof(*sh));
+	PVS__ZERO(*sh);
 	sh->allocator = env->allocator;
 	if (!(env->eps > 0.0f)) {
 		pvs_box sb = pvs_scene_bounds(desc->scene);
 		env->eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene), &sb);
 		if (env->flags & PVS_BAKE_PREVIEW) env->eps *= 2.0f;
 	}
-	memset(&od, 0, sizeof(od));
+	PVS__ZERO(od);
 	od.scene = desc->scene;
 	od.cells = desc->cells;
 	od.cell_count = desc->cell_count;
@@ -21359,7 +21361,7 @@ PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc, const void *state) 
 	(void)state;
 	if (!(eps > 0.0)) eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene), &sb);
 	for (i = 0; i < desc->cell_count; ++i) {
-		for (k = 0; k < 3; ++k) n[k] = ceil((desc->cells[i].max[k] - (double)desc->cells[i].min[k]) / (1.4 * eps)) + 1;
+		PVS__FOR3(k) n[k] = ceil((desc->cells[i].max[k] - (double)desc->cells[i].min[k]) / (1.4 * eps)) + 1;
 		points += 2.0 * (n[0] * n[1] + n[1] * n[2] + n[0] * n[2]);
 	}
 	for (; price < 30 && points >= ref; points *= 0.5) ++price;
@@ -21514,7 +21516,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
 
 PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *err) {
 	int k;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		if (!pvs__finite(c->min[k]) || !pvs__finite(c->max[k]))
 			return pvs__fail(err, PVS_ERROR_BAD_CELL, i, 0, "cell %u has a coordinate that is not finite", i);
 		if (c->min[k] > c->max[k])
@@ -21528,7 +21530,7 @@ PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *
 PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
 	double sum = 0.0;
 	int k;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		double g = 0.0;
 		if ((double)a->min[k] > (double)b->max[k]) g = (double)a->min[k] - (double)b->max[k];
 		else if ((double)b->min[k] > (double)a->max[k]) g = (double)b->min[k] - (double)a->max[k];
@@ -21546,7 +21548,7 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 	size_t i;
 	*mask = 0;
 	if (!desc->cells || desc->cell_count == 0) return PVS__BAD_ARG(err, "no cells");
-	if (desc->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells");
+	if (desc->cell_count == 0xffffffffu) return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "too many cells");
 	if (desc->shard_count == 1 || (desc->shard_count && desc->shard_index >= desc->shard_count) ||
 		desc->shard_count > desc->cell_count)
 		return PVS__BAD_ARG(err, "shard %u of %u for %u cells", desc->shard_index, desc->shard_count, desc->cell_count);
@@ -21571,17 +21573,14 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 	if (!pvs__finite(desc->adaptive.min_size) || desc->adaptive.min_size < 0.0f)
 		return PVS__BAD_ARG(err, "adaptive.min_size must be finite and >= 0");
 	if (desc->adaptive.budget && desc->shard_count)
-		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
-						 "adaptive cells in a sharded bake (part files index whole cells)");
+		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "adaptive cells in a sharded bake (part files index whole cells)");
 	if (desc->adaptive.budget && row && (row->traits & PVS__METHOD_WHOLE_CELLS))
-		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
+		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED,
 						 "adaptive cells with %s (its records belong to whole cells)", pvs_method_name(method));
 	if (method == PVS_METHOD_AUTO) {
 		if (desc->methods & ~conservative)
-			return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
-							 "methods mask 0x%x names a method that is not conservative or unknown "
-							 "(auto never intersects sample)",
-							 desc->methods);
+			return PVS__BAD_ARG(err, "methods mask 0x%x names a method that is not conservative or unknown "
+								"(auto never intersects sample)", desc->methods);
 		*mask = desc->methods ? desc->methods : byauto;
 	} else if (desc->methods) {
 		return PVS__BAD_ARG(err, "methods is for PVS_METHOD_AUTO only");
@@ -21597,7 +21596,7 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 	const pvs_allocator *a = &b->env.allocator;
 	size_t total, bytes, i;
 	if (!pvs__mul(b->words, b->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &bytes))
-		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory",
+		return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "%u cells x %u objects do not fit in memory",
 						 desc->cell_count, b->object_count);
 	b->cells = PVS__ALLOC_N(a, pvs_box, b->cell_count);
 	if ((desc->flags & PVS_BAKE_COMPACT) || bytes > PVS_BAKE_COMPACT_BYTES) {
@@ -21705,11 +21704,10 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 		if (r != PVS_OK) return r;
 	}
 	if (!b->run_count && b->considered_count == 1)
-		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "auto: %s: %s", pvs_method_name(b->considered[0]->method),
+		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "auto: %s: %s", pvs_method_name(b->considered[0]->method),
 						 b->reason[0]);
 	if (!b->run_count)
-		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
-						 "auto: no conservative method can cull anything in this scene");
+		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "auto: no conservative method can cull anything in this scene");
 	return PVS_OK;
 }
 
@@ -21824,7 +21822,7 @@ PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc
 			}
 	}
 	b->run_count = kept;
-	if (!kept) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "auto: no conservative method can cull here");
+	if (!kept) return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "auto: no conservative method can cull here");
 	return PVS_OK;
 }
 
@@ -21839,7 +21837,7 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
 	if (r != PVS_OK) return r;
 	b = (pvs_bake *)pvs__alloc(&desc->allocator, sizeof(pvs_bake), 16);
 	if (!b) return PVS__OOM(err, "bake");
-	memset(b, 0, sizeof(*b));
+	PVS__ZERO(*b);
 	b->total_cell_count = desc->cell_count;
 	b->shard_count = desc->shard_count;
 	b->shard_index = desc->shard_count ? desc->shard_index : 0;
@@ -21988,7 +21986,7 @@ PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell
 	pvs_result r;
 	int k;
 	if (!work) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive cells of cell %u", cell);
-	for (k = 0; k < 3; ++k) longest = c->max[k] - c->min[k] > longest ? c->max[k] - c->min[k] : longest;
+	PVS__FOR3(k) longest = c->max[k] - c->min[k] > longest ? c->max[k] - c->min[k] : longest;
 	if (!(min_size > 0.0f)) min_size = 0.125f * longest;
 	b->leaves[task].count = 0;
 	memcpy(work, bits, b->words * sizeof(pvs_word));
@@ -22059,7 +22057,7 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
 
 PVS_API void pvs_bake_get_report(const pvs_bake *b, pvs_bake_report *r) {
 	uint32_t i;
-	memset(r, 0, sizeof(*r));
+	PVS__ZERO(*r);
 	for (i = 0; i < b->cell_count; ++i) {
 		if (!b->done[i] || b->restored[i]) continue;
 		++r->cells;
@@ -22120,7 +22118,7 @@ PVS_API uint32_t pvs_bake_method_count(const pvs_bake *b) { return b ? b->consid
 PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *b, uint32_t i, pvs_bake_method_info *info) {
 	uint32_t t, k, slot = 0;
 	if (!b || !info || i >= b->considered_count) return PVS_ERROR_INVALID_ARGUMENT;
-	memset(info, 0, sizeof(*info));
+	PVS__ZERO(*info);
 	info->method = b->considered[i]->method;
 	info->ran = b->ran[i];
 	info->reason = b->reason[i] ? b->reason[i] : "";
@@ -22151,7 +22149,7 @@ PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *b, uint32_t cell) {
 }
 
 PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
-	memset(fd, 0, sizeof(*fd));
+	PVS__ZERO(*fd);
 	fd->cells = b->cells;
 	fd->cell_count = b->cell_count;
 	fd->object_count = b->object_count;
@@ -22219,7 +22217,7 @@ PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t cap
 		fd.pvs = pvs;
 		r = pvs_file_encode(&fd, out, capacity, out_size, err);
 	} else
-		r = pvs__fail(err, r, -1, 0, "%llu adaptive cells", (unsigned long long)n);
+		r = PVS__FAIL(err, r, "%llu adaptive cells", (unsigned long long)n);
 	PVS__FREE_N(&b->env.allocator, cells, n);
 	PVS__FREE_N(&b->env.allocator, pvs, n * b->words);
 	return r;
@@ -22464,7 +22462,7 @@ typedef struct pvs__ac {
 } pvs__ac;
 
 PVS__STATIC void pvs__ac_start(pvs__ac *a) {
-	memset(a, 0, sizeof(*a));
+	PVS__ZERO(*a);
 	a->x2 = 0xffffffffu;
 }
 /* Codes bit y in context ctx (pvs__rec_decode's PVS__AC_GET mirrored). */
@@ -22506,10 +22504,10 @@ PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word
 		pvs__rec_code(&a, bits, NULL, b->object_count);
 		if (p) p[a.n] = (uint8_t)(a.x2 >> 24);
 		n = a.n + 1;
-		if (!p && !(p = (uint8_t *)pvs__alloc_array(&b->env.allocator, n, 1)))
+		if (!p && !(p = PVS__ALLOC_N(&b->env.allocator, uint8_t, n)))
 			return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, task, 0, "task %u: its coded PVS", task);
 	}
-	pvs__free_array(&b->env.allocator, b->rec[task], b->rec_size[task], 1);
+	PVS__FREE_N(&b->env.allocator, b->rec[task], b->rec_size[task]);
 	b->rec[task] = p;
 	b->rec_size[task] = (uint32_t)n;
 	return PVS_OK;
@@ -22521,7 +22519,7 @@ PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_w
 	int k;
 	if (b->pvs) return b->pvs + (size_t)task * b->words;
 	memset(buffer, 0, b->words * sizeof(pvs_word));
-	memset(&f, 0, sizeof(f)); /* with learn, pvs__rec_decode reads only object_count (identity order) */
+	PVS__ZERO(f); /* with learn, pvs__rec_decode reads only object_count (identity order) */
 	f.object_count = b->object_count;
 	for (k = 0; k < (int)PVS__CTX_COUNT; ++k) learn[k] = 2048;
 	if (b->rec[task]) pvs__rec_decode(&f, b->rec[task], b->rec[task] + b->rec_size[task], 1, buffer, learn);
@@ -22585,7 +22583,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 		/* candidates: cell edges; binary search in sorted mins, maxes counts cells left (min < v, flat ones at v aside)
 		   and right (max > v); smaller larger side wins, first on ties. Unlike medians this splits crossing cells. */
 		float *mins = b->keys, *maxs = b->keys + n;
-		for (axis = 0; axis < 3; ++axis) {
+		PVS__FOR3(axis) {
 			int side;
 			for (i = 0; i < n; ++i) {
 				mins[i] = b->boxes[ids[i]].min[axis];
@@ -22624,7 +22622,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 		return r == PVS_OK ? pvs__tree_node(b, ids, 0, level + 1, 2 * k + 2) : r;
 	}
 	{
-		uint32_t *sub = (uint32_t *)pvs__alloc_array(b->a, n, sizeof(uint32_t)), m = 0;
+		uint32_t *sub = PVS__ALLOC_N(b->a, uint32_t, n), m = 0;
 		if (!sub) return PVS_ERROR_OUT_OF_MEMORY;
 		b->nodes[k] = best_axis | (pvs__count_below(b->values[best_axis], b->value_count[best_axis], best_v, 0) << 2);
 		for (i = 0; i < n; ++i) {
@@ -22637,7 +22635,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 				if (b->boxes[ids[i]].max[best_axis] > best_v) sub[m++] = ids[i];
 			r = pvs__tree_node(b, sub, m, level + 1, 2 * k + 2);
 		}
-		pvs__free_array(b->a, sub, n, sizeof(uint32_t));
+		PVS__FREE_N(b->a, sub, n);
 		return r;
 	}
 }
@@ -22706,22 +22704,22 @@ typedef struct pvs__encoder {
 PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
 	const pvs_allocator *a = &e->a;
 	int k;
-	for (k = 0; k < 3; ++k) pvs__free_array(a, e->values[k], 2 * (size_t)e->cells, sizeof(float));
-	pvs__free_array(a, e->boxes, e->cells, sizeof(pvs_box));
+	PVS__FOR3(k) PVS__FREE_N(a, e->values[k], 2 * (size_t)e->cells);
+	PVS__FREE_N(a, e->boxes, e->cells);
 	pvs_kdtree_destroy(e->tree);
-	pvs__free_array(a, e->tree_stream, e->tree_bytes, 1);
+	PVS__FREE_N(a, e->tree_stream, e->tree_bytes);
 	pvs__free(a, e->sweep, e->sweep_size, 16);
-	pvs__free_array(a, e->edges, e->edge_capacity, sizeof(pvs__link));
-	pvs__free_array(a, e->adj_start, (size_t)e->cells + 1, sizeof(uint32_t));
-	pvs__free_array(a, e->adj, 4 * e->edge_capacity, sizeof(uint32_t));
-	pvs__free_array(a, e->heap, e->heap_capacity, sizeof(pvs__heapent));
-	pvs__free_array(a, e->base, e->cells, sizeof(uint32_t));
-	pvs__free_array(a, e->depth, e->cells, sizeof(uint32_t));
-	pvs__free_array(a, e->placed, e->cells, 1);
-	pvs__free_array(a, e->rows, 2 * e->words, sizeof(pvs_word));
-	pvs__free_array(a, e->order, 2 * (size_t)e->n, sizeof(uint32_t));
-	pvs__free_array(a, e->prow, 2 * e->words, sizeof(pvs_word));
-	pvs__free_array(a, e->buf, 292 * e->words + 16, 1);
+	PVS__FREE_N(a, e->edges, e->edge_capacity);
+	PVS__FREE_N(a, e->adj_start, (size_t)e->cells + 1);
+	PVS__FREE_N(a, e->adj, 4 * e->edge_capacity);
+	PVS__FREE_N(a, e->heap, e->heap_capacity);
+	PVS__FREE_N(a, e->base, e->cells);
+	PVS__FREE_N(a, e->depth, e->cells);
+	PVS__FREE_N(a, e->placed, e->cells);
+	PVS__FREE_N(a, e->rows, 2 * e->words);
+	PVS__FREE_N(a, e->order, 2 * (size_t)e->n);
+	PVS__FREE_N(a, e->prow, 2 * e->words);
+	PVS__FREE_N(a, e->buf, 292 * e->words + 16);
 }
 
 /* Cell i's PVS: desc's table, or pvs_row's into slot 0 (record's cell) or 1 (its base), kept while it holds i. */
@@ -22779,12 +22777,12 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	pvs_result r = PVS_OK;
 	if (e->edges) goto choose; /* graph built by an earlier plan: only weights change with the order */
 	e->edge_capacity = (size_t)e->cells * PVS__CANDIDATES;
-	e->edges = (pvs__link *)pvs__alloc_array(a, e->edge_capacity, sizeof(pvs__link));
-	e->adj_start = (uint32_t *)pvs__alloc_array(a, (size_t)e->cells + 1, sizeof(uint32_t));
-	e->adj = (uint32_t *)pvs__alloc_array(a, 4 * e->edge_capacity, sizeof(uint32_t));
-	e->base = (uint32_t *)pvs__alloc_array(a, e->cells, sizeof(uint32_t));
-	e->depth = (uint32_t *)pvs__alloc_array(a, e->cells, sizeof(uint32_t));
-	e->placed = (unsigned char *)pvs__alloc_array(a, e->cells, 1);
+	e->edges = PVS__ALLOC_N(a, pvs__link, e->edge_capacity);
+	e->adj_start = PVS__ALLOC_N(a, uint32_t, (size_t)e->cells + 1);
+	e->adj = PVS__ALLOC_N(a, uint32_t, 4 * e->edge_capacity);
+	e->base = PVS__ALLOC_N(a, uint32_t, e->cells);
+	e->depth = PVS__ALLOC_N(a, uint32_t, e->cells);
+	e->placed = PVS__ALLOC_N(a, unsigned char, e->cells);
 	e->sweep_size = pvs_kdtree_sweep_scratch_size(e->tree);
 	e->sweep = pvs__alloc(a, e->sweep_size ? e->sweep_size : 1, 16);
 	if (!e->edges || !e->adj_start || !e->adj || !e->base || !e->depth || !e->placed || !e->sweep)
@@ -22827,11 +22825,11 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 		}
 	}
 	e->heap_capacity = (size_t)e->cells + 2 * m + 1;
-	e->heap = (pvs__heapent *)pvs__alloc_array(a, e->heap_capacity, sizeof(pvs__heapent));
+	e->heap = PVS__ALLOC_N(a, pvs__heapent, e->heap_capacity);
 	if (!e->heap) return PVS__OOM(err, "encoder heap");
 choose:
 	for (k = 0; k < 2 * e->edge_count; ++k) e->adj[2 * k + 1] = 0;
-	best = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)e->cells, sizeof(uint32_t)); /* key sizes, best bases, depths */
+	best = PVS__ALLOC_N(a, uint32_t, 3 * (size_t)e->cells); /* key sizes, best bases, depths */
 	if (!best) return PVS__OOM(err, "encoder bases");
 	for (i = 0; i < e->cells; ++i) best[i] = pvs__encoder_cost(e, i, PVS_NO_CELL);
 	for (lambda = 0; lambda <= 8; lambda = lambda ? 2 * lambda : 2) {
@@ -22843,7 +22841,7 @@ choose:
 	}
 	memcpy(e->base, best + e->cells, e->cells * sizeof(uint32_t));
 	memcpy(e->depth, best + 2 * (size_t)e->cells, e->cells * sizeof(uint32_t));
-	pvs__free_array(a, best, 3 * (size_t)e->cells, sizeof(uint32_t));
+	PVS__FREE_N(a, best, 3 * (size_t)e->cells);
 	return PVS_OK;
 }
 
@@ -22919,13 +22917,13 @@ PVS__STATIC void pvs__rec_code(pvs__ac *a, const pvs_word *x, const pvs_word *y,
    seen together sit side by side (deltas change few words); each step searches first PVS__ORDER_WINDOW unused. */
 PVS__STATIC pvs_result pvs__encoder_order(pvs__encoder *e, pvs_error *err) {
 	uint32_t s = (uint32_t)(((uint64_t)1 << 30) / e->n), sw, i, k, cur = 0; /* samples: <= 128 MB */
-	uint32_t *next = (uint32_t *)pvs__alloc_array(&e->a, (size_t)e->n + 1, sizeof(uint32_t));
+	uint32_t *next = PVS__ALLOC_N(&e->a, uint32_t, (size_t)e->n + 1);
 	pvs_word *col;
 	pvs_result r = PVS_OK;
 	s = s < 64 ? 64 : s > PVS__ORDER_SAMPLE ? PVS__ORDER_SAMPLE : s;
 	s = s < e->cells ? s : e->cells;
 	sw = (s + 63) / 64;
-	col = (pvs_word *)pvs__alloc_array(&e->a, (size_t)e->n * sw, sizeof(pvs_word));
+	col = PVS__ALLOC_N(&e->a, pvs_word, (size_t)e->n * sw);
 	if (!next || !col) {
 		r = PVS__OOM(err, "object order over %u cells", s);
 		goto done;
@@ -22961,8 +22959,8 @@ PVS__STATIC pvs_result pvs__encoder_order(pvs__encoder *e, pvs_error *err) {
 	}
 	for (k = 0; k < e->n; ++k) e->pos[e->order[k]] = k;
 done:
-	pvs__free_array(&e->a, next, (size_t)e->n + 1, sizeof(uint32_t));
-	pvs__free_array(&e->a, col, (size_t)e->n * sw, sizeof(pvs_word));
+	PVS__FREE_N(&e->a, next, (size_t)e->n + 1);
+	PVS__FREE_N(&e->a, col, (size_t)e->n * sw);
 	return r;
 }
 
@@ -22970,7 +22968,7 @@ done:
 PVS__STATIC void pvs__encoder_model(pvs__encoder *e) {
 	uint32_t counts[2 * PVS__CTX_COUNT], i, k;
 	pvs__ac a;
-	memset(&a, 0, sizeof(a));
+	PVS__ZERO(a);
 	memset(counts, 0, sizeof(counts));
 	a.counts = counts;
 	for (i = 0; i < e->cells; ++i)
@@ -23040,7 +23038,7 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 	if ((int)d->method < 0 || d->method >= PVS_METHOD_COUNT || !pvs__finite(d->eps) || d->eps < 0.0f)
 		return PVS__BAD_ARG(err, "bad method or eps");
 	if (d->cell_count == PVS_NO_CELL || d->object_count == 0xffffffffu || d->cell_count > 0x3fffffffu)
-		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells or objects");
+		return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "too many cells or objects");
 	*max_chain = d->max_chain ? d->max_chain : PVS_DEFAULT_CHAIN;
 	if (*max_chain > PVS_MAX_CHAIN)
 		return PVS__BAD_ARG(err, "max_chain %u > %u", *max_chain, PVS_MAX_CHAIN);
@@ -23096,15 +23094,15 @@ PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_by
 	const pvs_file_desc *d = e->d;
 	size_t index_bits_total, table_bytes = 0;
 	uint32_t i, k;
-	e->boxes = (pvs_box *)pvs__alloc_array(&e->a, e->cells, sizeof(pvs_box));
+	e->boxes = PVS__ALLOC_N(&e->a, pvs_box, e->cells);
 	if (!e->boxes) return PVS__OOM(err, "cell boxes");
 	for (i = 0; i < e->cells; ++i)
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			e->boxes[i].min[k] = d->cells[i].min[k] + 0.0f;
 			e->boxes[i].max[k] = d->cells[i].max[k] + 0.0f;
 		}
-	for (k = 0; k < 3; ++k) {
-		float *v = (float *)pvs__alloc_array(&e->a, 2 * (size_t)e->cells, sizeof(float));
+	PVS__FOR3(k) {
+		float *v = PVS__ALLOC_N(&e->a, float, 2 * (size_t)e->cells);
 		uint32_t n = 0, widest = 0;
 		if (!v) return PVS__OOM(err, "cell coordinate tables");
 		e->values[k] = v;
@@ -23138,39 +23136,39 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	pvs_kdtree_desc td;
 	pvs_result r = PVS_OK;
 	uint32_t long_cells = 0, i, k;
-	memset(&td, 0, sizeof(td));
+	PVS__ZERO(td);
 	td.boxes = e->boxes;
 	td.count = e->cells;
 	td.allocator = e->a;
 	{ /* cells over 16 x lower-quartile extent on axis cross many split planes */
-		float *ext = (float *)pvs__alloc_array(&e->a, e->cells, sizeof(float)), med[3];
+		float *ext = PVS__ALLOC_N(&e->a, float, e->cells), med[3];
 		if (!ext) return PVS__OOM(err, "cell extents");
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			for (i = 0; i < e->cells; ++i) ext[i] = e->boxes[i].max[k] - e->boxes[i].min[k];
 			PVS_QSORT(ext, e->cells, sizeof(float), pvs__float_cmp);
 			med[k] = ext[e->cells / 4]; /* lower quartile: half the cells may be long */
 		}
 		for (i = 0; i < e->cells; ++i)
-			for (k = 0; k < 3; ++k)
+			PVS__FOR3(k)
 				if (e->boxes[i].max[k] - e->boxes[i].min[k] > 16.0f * med[k]) {
 					++long_cells;
 					break;
 				}
-		pvs__free_array(&e->a, ext, e->cells, sizeof(float));
+		PVS__FREE_N(&e->a, ext, e->cells);
 	}
 	if (long_cells <= e->cells / 16) r = pvs_kdtree_create(&td, &e->tree, err);
 	if (r == PVS_OK && (!e->tree || e->tree->item_count > 16u * e->cells)) {
-		pvs_box *centres = (pvs_box *)pvs__alloc_array(&e->a, e->cells, sizeof(pvs_box));
+		pvs_box *centres = PVS__ALLOC_N(&e->a, pvs_box, e->cells);
 		pvs_kdtree_destroy(e->tree);
 		e->tree = NULL;
 		if (!centres) return PVS__OOM(err, "cell centres");
 		for (i = 0; i < e->cells; ++i)
-			for (k = 0; k < 3; ++k)
+			PVS__FOR3(k)
 				centres[i].min[k] = centres[i].max[k] =
 					0.5f * e->boxes[i].min[k] + 0.5f * e->boxes[i].max[k]; /* no overflow */
 		td.boxes = centres;
 		r = pvs_kdtree_create(&td, &e->tree, err);
-		pvs__free_array(&e->a, centres, e->cells, sizeof(pvs_box));
+		PVS__FREE_N(&e->a, centres, e->cells);
 	}
 	return r;
 }
@@ -23179,16 +23177,16 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err) {
 	pvs__tbuild tb;
 	pvs_result r;
-	uint32_t *ids = (uint32_t *)pvs__alloc_array(&e->a, e->cells, sizeof(uint32_t)), leaves, i, k;
-	memset(&tb, 0, sizeof(tb));
+	uint32_t *ids = PVS__ALLOC_N(&e->a, uint32_t, e->cells), leaves, i, k;
+	PVS__ZERO(tb);
 	tb.a = &e->a;
 	tb.boxes = e->boxes;
 	while (tb.depth < 20 && (e->cells >> tb.depth) > PVS__TREE_LEAF) ++tb.depth;
 	leaves = 1u << tb.depth;
-	tb.keys = (float *)pvs__alloc_array(&e->a, 2 * (size_t)e->cells, sizeof(float));
-	tb.nodes = (uint32_t *)pvs__alloc_array(&e->a, leaves, sizeof(uint32_t));
-	tb.leaf_start = (uint32_t *)pvs__alloc_array(&e->a, (size_t)leaves + 1, sizeof(uint32_t));
-	for (k = 0; k < 3; ++k) tb.values[k] = e->values[k];
+	tb.keys = PVS__ALLOC_N(&e->a, float, 2 * (size_t)e->cells);
+	tb.nodes = PVS__ALLOC_N(&e->a, uint32_t, leaves);
+	tb.leaf_start = PVS__ALLOC_N(&e->a, uint32_t, (size_t)leaves + 1);
+	PVS__FOR3(k) tb.values[k] = e->values[k];
 	tb.value_count = e->value_count;
 	if (ids && tb.keys && tb.nodes && tb.leaf_start) {
 		for (i = 0; i < e->cells; ++i) ids[i] = i;
@@ -23203,7 +23201,7 @@ PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err)
 		tb.leaf_start[leaves] = (uint32_t)tb.item_bytes;
 		e->tree_bytes = 5 * (size_t)(leaves - 1) + ob + tb.item_bytes;
 		e->tree_depth = tb.depth;
-		e->tree_stream = t = (uint8_t *)pvs__alloc_array(&e->a, e->tree_bytes, 1);
+		e->tree_stream = t = PVS__ALLOC_N(&e->a, uint8_t, e->tree_bytes);
 		if (!t) {
 			r = PVS_ERROR_OUT_OF_MEMORY;
 		} else {
@@ -23216,12 +23214,12 @@ PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err)
 			if (tb.item_bytes) memcpy(t + ob, tb.items, tb.item_bytes);
 		}
 	}
-	pvs__free_array(&e->a, ids, e->cells, sizeof(uint32_t));
-	pvs__free_array(&e->a, tb.keys, 2 * (size_t)e->cells, sizeof(float));
-	pvs__free_array(&e->a, tb.nodes, leaves, sizeof(uint32_t));
-	pvs__free_array(&e->a, tb.leaf_start, (size_t)leaves + 1, sizeof(uint32_t));
-	pvs__free_array(&e->a, tb.items, tb.item_capacity, 1);
-	if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "cell look-up tree");
+	PVS__FREE_N(&e->a, ids, e->cells);
+	PVS__FREE_N(&e->a, tb.keys, 2 * (size_t)e->cells);
+	PVS__FREE_N(&e->a, tb.nodes, leaves);
+	PVS__FREE_N(&e->a, tb.leaf_start, (size_t)leaves + 1);
+	PVS__FREE_N(&e->a, tb.items, tb.item_capacity);
+	if (r != PVS_OK) return PVS__FAIL(err, r, "cell look-up tree");
 	return PVS_OK;
 }
 
@@ -23230,10 +23228,10 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 	uint8_t *v, *bits;
 	uint64_t pos = 0;
 	uint32_t i, k;
-	for (k = 0; k < 3; ++k) pvs__put32(c + 4 * k, e->value_count[k]);
+	PVS__FOR3(k) pvs__put32(c + 4 * k, e->value_count[k]);
 	for (k = 0; k < 6; ++k) c[12 + k] = (uint8_t)e->index_bits[k];
 	v = c + PVS__CELL_HEAD;
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		uint32_t w = e->grid_bits[k], n = e->value_count[k];
 		pvs__put32(c + 20 + 8 * k, (uint32_t)e->grid_base[k]);
 		pvs__put32(c + 24 + 8 * k, w | ((uint32_t)e->grid_exp[k] & 0xffffu) << 8);
@@ -23247,12 +23245,12 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 	bits = v;
 	for (i = 0; i < e->cells; ++i) {
 		uint32_t lo[3];
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			lo[k] = pvs__count_below(e->values[k], e->value_count[k], e->boxes[i].min[k], 0);
 			pvs__put_bits(bits, pos, lo[k], e->index_bits[k]);
 			pos += e->index_bits[k];
 		}
-		for (k = 0; k < 3; ++k) {
+		PVS__FOR3(k) {
 			pvs__put_bits(bits, pos, pvs__count_below(e->values[k], e->value_count[k], e->boxes[i].max[k], 0) - lo[k],
 						  e->index_bits[3 + k]);
 			pos += e->index_bits[3 + k];
@@ -23317,8 +23315,8 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	r = pvs__encode_check(d, &max_chain, &vocc_size, err);
 	if (r != PVS_OK) return r;
 	names_size = pvs__names_size(d);
-	if (names_size == (size_t)-1) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "object names over 4 GiB");
-	memset(&e, 0, sizeof(e));
+	if (names_size == (size_t)-1) return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "object names over 4 GiB");
+	PVS__ZERO(e);
 	e.a = d->allocator;
 	e.d = d;
 	e.n = d->object_count;
@@ -23332,10 +23330,10 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	r = pvs__encoder_lookup_tree(&e, err);
 	if (r != PVS_OK) goto done;
 
-	e.rows = (pvs_word *)pvs__alloc_array(&e.a, 2 * e.words, sizeof(pvs_word));
-	e.prow = (pvs_word *)pvs__alloc_array(&e.a, 2 * e.words, sizeof(pvs_word));
-	e.order = (uint32_t *)pvs__alloc_array(&e.a, 2 * (size_t)e.n, sizeof(uint32_t));
-	e.buf = (uint8_t *)pvs__alloc_array(&e.a, 292 * e.words + 16, 1); /* <= 73 symbols a word, 4 bytes each */
+	e.rows = PVS__ALLOC_N(&e.a, pvs_word, 2 * e.words);
+	e.prow = PVS__ALLOC_N(&e.a, pvs_word, 2 * e.words);
+	e.order = PVS__ALLOC_N(&e.a, uint32_t, 2 * (size_t)e.n);
+	e.buf = PVS__ALLOC_N(&e.a, uint8_t, 292 * e.words + 16); /* <= 73 symbols a word, 4 bytes each */
 	e.row_of[0] = e.row_of[1] = PVS_NO_CELL;
 	if (!e.rows || !e.prow || !e.order || !e.buf) {
 		r = PVS__OOM(err, "encoder bitsets");
@@ -23376,7 +23374,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 		total = pvs__align8(total + sz[k]);
 	}
 	if (total > 0xffffffffu) {
-		r = pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the file would exceed 4 GiB");
+		r = PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "the file would exceed 4 GiB");
 		goto done;
 	}
 	if (out_size) *out_size = total;
@@ -23385,7 +23383,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 		goto done;
 	}
 	if (capacity < total) {
-		r = pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "need %llu bytes, have %llu", (unsigned long long)total,
+		r = PVS__FAIL(err, PVS_ERROR_BUFFER_TOO_SMALL, "need %llu bytes, have %llu", (unsigned long long)total,
 					  (unsigned long long)capacity);
 		goto done;
 	}
@@ -23486,21 +23484,21 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 	uint32_t k, i;
 	const uint8_t *v = c + PVS__CELL_HEAD;
 	if (size < PVS__CELL_HEAD)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, fewer than its 44-byte head", size);
-	for (k = 0; k < 3; ++k) {
+		return PVS__BAD_SECTION(err, off, "CELL has %u bytes, fewer than its 44-byte head", size);
+	PVS__FOR3(k) {
 		uint32_t n = pvs__get32(c + 4 * k), g = pvs__get32(c + 24 + 8 * k), w = g & 255u;
 		if (n == 0 || n > 2 * (uint64_t)f->cell_count)
-			return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 4 * k,
-							 "CELL: %u coordinates on axis %u for %u cells", n, k, f->cell_count);
+			return PVS__BAD_SECTION(err, off + 4 * k,
+									"CELL: %u coordinates on axis %u for %u cells", n, k, f->cell_count);
 		if (c[12 + k] != pvs__bits_for(n - 1))
-			return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 12 + k,
-							 "CELL: index width %u on axis %u, %u values need %u", c[12 + k], k, n,
-							 pvs__bits_for(n - 1));
+			return PVS__BAD_SECTION(err, off + 12 + k,
+									"CELL: index width %u on axis %u, %u values need %u", c[12 + k], k, n,
+									pvs__bits_for(n - 1));
 		if (c[15 + k] > pvs__bits_for(n - 1))
-			return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 15 + k,
-							 "CELL: extent width %u on axis %u exceeds %u", c[15 + k], k, pvs__bits_for(n - 1));
+			return PVS__BAD_SECTION(err, off + 15 + k,
+									"CELL: extent width %u on axis %u exceeds %u", c[15 + k], k, pvs__bits_for(n - 1));
 		if ((w != 16u && w != 255u) || (g >> 24) || (w == 255u && (g >> 8 || pvs__get32(c + 20 + 8 * k))))
-			return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 24 + 8 * k, "CELL: table %u has width %u", k, w);
+			return PVS__BAD_SECTION(err, off + 24 + 8 * k, "CELL: table %u has width %u", k, w);
 		f->private_.value_count[k] = n;
 		f->private_.index_bits[k] = c[12 + k];
 		f->private_.index_bits[3 + k] = c[15 + k];
@@ -23513,17 +23511,17 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 		f->private_.values[k] = c + need;
 		need += (w == 255u ? 4 : 2) * (uint64_t)n;
 	}
-	if (c[18] || c[19]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 18, "CELL: reserved bytes are not zero");
+	if (c[18] || c[19]) return PVS__BAD_SECTION(err, off + 18, "CELL: reserved bytes are not zero");
 	f->private_.cell_bits = f->private_.index_bits[0] + f->private_.index_bits[1] + f->private_.index_bits[2] +
 		f->private_.index_bits[3] + f->private_.index_bits[4] + f->private_.index_bits[5];
 	nbits = (uint64_t)f->private_.cell_bits * f->cell_count;
 	if (need + (nbits + 7) / 8 != size)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, its tables and indices need %llu",
-						 size, (unsigned long long)(need + (nbits + 7) / 8));
+		return PVS__BAD_SECTION(err, off, "CELL has %u bytes, its tables and indices need %llu",
+								size, (unsigned long long)(need + (nbits + 7) / 8));
 	v = c + need;
 	f->private_.indices = v;
 	f->private_.index_bytes = (size_t)((nbits + 7) / 8);
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		uint32_t n = f->private_.value_count[k];
 		for (i = 0; i < n; ++i) {
 			float x = pvs__cell_value(f, k, i);
@@ -23540,14 +23538,13 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 			idx[k] = pvs__get_bits(v, pos, f->private_.index_bits[k]);
 			pos += f->private_.index_bits[k];
 		}
-		for (k = 0; k < 3; ++k)
+		PVS__FOR3(k)
 			if ((uint64_t)idx[k] + idx[k + 3] >= f->private_.value_count[k])
 				return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(v - base) + pos / 8,
 								 "cell %u: coordinate index %u + %u out of range on axis %u", i, idx[k], idx[k + 3], k);
 	}
 	if ((nbits & 7u) && (v[nbits / 8] >> (nbits & 7u)))
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(v - base) + nbits / 8,
-						 "CELL: unused index bits are not zero");
+		return PVS__BAD_SECTION(err, (uint64_t)(v - base) + nbits / 8, "CELL: unused index bits are not zero");
 	return PVS_OK;
 }
 
@@ -23619,7 +23616,7 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 	uint64_t off = (uint64_t)(rs - base);
 	uint32_t blocks = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK, b, keys = 0, i;
 	if ((uint64_t)4 * (blocks + 1) > size)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "RECS is too small for %u block offsets", blocks + 1);
+		return PVS__BAD_SECTION(err, off, "RECS is too small for %u block offsets", blocks + 1);
 	if (pvs__get32(rs) != 4 * (blocks + 1))
 		return pvs__fail(err, PVS_ERROR_BAD_RECORD, 0, off, "block 0 does not start after the offset table");
 	if (pvs__get32(rs + 4 * (size_t)blocks) != size)
@@ -23656,8 +23653,7 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 							 "block %u has bytes after its last record", b);
 	}
 	if (keys != f->key_count)
-		return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 0, "META says %u key cells, the records have %u", f->key_count,
-						 keys);
+		return PVS__FAIL(err, PVS_ERROR_BAD_HEADER, "META says %u key cells, the records have %u", f->key_count, keys);
 	for (i = 0; i < f->cell_count; ++i) { /* <= K bases to a key: no cycle, decode's chain bound (n K steps) */
 		pvs__rec r;
 		uint32_t c = i, k;
@@ -23676,18 +23672,18 @@ PVS__STATIC pvs_result pvs__open_model(pvs_file *f, const uint8_t *base, const u
 	uint64_t off = (uint64_t)(m - base), nbits;
 	uint32_t w, k;
 	if (size < PVS__MODL_HEAD || pvs__get32(m) != PVS__CTX_COUNT)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "MODL: not %u contexts", PVS__CTX_COUNT);
+		return PVS__BAD_SECTION(err, off, "MODL: not %u contexts", PVS__CTX_COUNT);
 	w = pvs__get32(m + 4);
 	if (w && w != pvs__bits_for(f->object_count - 1))
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 4, "MODL: order width %u", w);
+		return PVS__BAD_SECTION(err, off + 4, "MODL: order width %u", w);
 	nbits = (uint64_t)f->object_count * w;
 	if (size != PVS__MODL_HEAD + (nbits + 7) / 8)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "MODL: %u bytes, not %llu", size,
-						 (unsigned long long)(PVS__MODL_HEAD + (nbits + 7) / 8));
+		return PVS__BAD_SECTION(err, off, "MODL: %u bytes, not %llu", size,
+								(unsigned long long)(PVS__MODL_HEAD + (nbits + 7) / 8));
 	for (k = 0; k < PVS__CTX_COUNT; ++k) {
 		uint32_t p = m[8 + 2 * k] | (uint32_t)m[9 + 2 * k] << 8;
 		if (p < 1 || p > 4095)
-			return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 8 + 2 * k, "MODL: probability %u", p);
+			return PVS__BAD_SECTION(err, off + 8 + 2 * k, "MODL: probability %u", p);
 		f->private_.prob[k] = (uint16_t)p;
 	}
 	f->private_.order = m + PVS__MODL_HEAD;
@@ -23699,7 +23695,7 @@ PVS__STATIC pvs_result pvs__open_model(pvs_file *f, const uint8_t *base, const u
 							 "MODL: order %u names object %u of %u", k,
 							 pvs__get_bits(f->private_.order, (uint64_t)k * w, w), f->object_count);
 	if ((nbits & 7u) && (m[size - 1] >> (nbits & 7u)))
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + size - 1, "MODL: bits after the order");
+		return PVS__BAD_SECTION(err, off + size - 1, "MODL: bits after the order");
 	return PVS_OK;
 }
 
@@ -23794,8 +23790,7 @@ PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t
 		size_t next = e ? pvs__get32(e + 4) : size;
 		for (; pos < next; ++pos)
 			if (p[pos])
-				return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, pos, "padding byte %llu is not zero",
-								 (unsigned long long)pos);
+				return PVS__BAD_SECTION(err, pos, "padding byte %llu is not zero", (unsigned long long)pos);
 		if (e && (size_t)pvs__get32(e + 4) + pvs__get32(e + 8) > pos)
 			pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
 	}
@@ -23807,7 +23802,7 @@ PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8
 									  pvs_error *err) {
 	uint64_t mo = (uint64_t)(meta - p);
 	if (meta_size != PVS__META_SIZE)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, mo, "META has %u bytes, not 32", meta_size);
+		return PVS__BAD_SECTION(err, mo, "META has %u bytes, not 32", meta_size);
 	f->cell_count = pvs__get32(meta);
 	f->object_count = pvs__get32(meta + 4);
 	f->method = (pvs_method)pvs__get32(meta + 8);
@@ -23842,7 +23837,7 @@ PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint
 									   pvs_error *err) {
 	uint64_t so = (uint64_t)(shrd - p);
 	if (shrd_size != PVS__SHRD_SIZE)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "SHRD has %u bytes, not 16", shrd_size);
+		return PVS__BAD_SECTION(err, so, "SHRD has %u bytes, not 16", shrd_size);
 	f->shard_index = pvs__get32(shrd);
 	f->shard_count = pvs__get32(shrd + 4);
 	f->total_cell_count = pvs__get32(shrd + 8);
@@ -23860,7 +23855,7 @@ PVS__STATIC pvs_result pvs__open_names(pvs_file *f, const uint8_t *p, const uint
 	uint64_t at = (uint64_t)(sec - p), head = 4 + 4 * (uint64_t)f->object_count;
 	uint32_t i, j, prev = 0;
 	if (size < head || pvs__get32(sec) != f->object_count)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, at, "NAME: not %u names", f->object_count);
+		return PVS__BAD_SECTION(err, at, "NAME: not %u names", f->object_count);
 	for (i = 0; i < f->object_count; ++i) {
 		uint32_t end = pvs__get32(sec + 4 + 4 * (size_t)i);
 		const uint8_t *text = sec + head;
@@ -23874,7 +23869,7 @@ PVS__STATIC pvs_result pvs__open_names(pvs_file *f, const uint8_t *p, const uint
 		prev = end;
 	}
 	if (prev != size - head)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, at + head + prev, "NAME: bytes after the last name");
+		return PVS__BAD_SECTION(err, at + head + prev, "NAME: bytes after the last name");
 	f->private_.names = sec;
 	return PVS_OK;
 }
@@ -23885,17 +23880,17 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 	pvs__open_sections sec;
 	pvs_result r;
 	if (!f) return PVS__BAD_ARG(err, "file must not be NULL");
-	memset(f, 0, sizeof(*f));
+	PVS__ZERO(*f);
 	if (!p && size) return PVS__BAD_ARG(err, "data is NULL");
 	r = pvs__open_header(p, size, &count, err);
 	if (r != PVS_OK) return r;
-	memset(&sec, 0, sizeof(sec));
+	PVS__ZERO(sec);
 	r = pvs__open_table(p, size, count, &sec, err);
 	if (r != PVS_OK) return r;
 	r = pvs__open_padding(p, size, count, err);
 	if (r != PVS_OK) return r;
 	if (!sec.meta || !sec.cells || !sec.tree || !sec.recs || !sec.modl)
-		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, 0, "missing required section %s",
+		return PVS__FAIL(err, PVS_ERROR_BAD_SECTION, "missing required section %s",
 						 !sec.meta ? "META" : !sec.cells ? "CELL" : !sec.tree ? "TREE" : !sec.recs ? "RECS" : "MODL");
 	r = pvs__open_meta(f, p, sec.meta, sec.meta_size, err);
 	if (r != PVS_OK) return r;
@@ -23916,11 +23911,11 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 	if (r == PVS_OK && sec.scne) {
 		f->scene_fingerprint = sec.scne_size == 8 ? pvs__get32(sec.scne) | (uint64_t)pvs__get32(sec.scne + 4) << 32 : 0;
 		if (!f->scene_fingerprint)
-			r = pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(sec.scne - p), "SCNE: not 8 nonzero bytes");
+			r = PVS__BAD_SECTION(err, (uint64_t)(sec.scne - p), "SCNE: not 8 nonzero bytes");
 	}
 	if (r == PVS_OK && sec.name) r = pvs__open_names(f, p, sec.name, sec.name_size, err);
 	if (r != PVS_OK) {
-		memset(f, 0, sizeof(*f));
+		PVS__ZERO(*f);
 		return r;
 	}
 	f->data = p;
@@ -23960,7 +23955,7 @@ PVS__STATIC void pvs__cell_indices(const pvs_file *f, uint32_t c, uint32_t idx[6
 			pos += f->private_.index_bits[k];
 		}
 	}
-	for (k = 0; k < 3; ++k) idx[k + 3] += idx[k];
+	PVS__FOR3(k) idx[k + 3] += idx[k];
 }
 
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
@@ -23969,7 +23964,7 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 	int k;
 	PVS_ASSERT(cell < f->cell_count);
 	pvs__cell_indices(f, cell, idx);
-	for (k = 0; k < 3; ++k) {
+	PVS__FOR3(k) {
 		b.min[k] = pvs__cell_value(f, (uint32_t)k, idx[k]);
 		b.max[k] = pvs__cell_value(f, (uint32_t)k, idx[k + 3]);
 	}
@@ -24005,7 +24000,7 @@ PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[
 		return !(p[2] < PVS__CELL_V(f, 2, lo2) || p[2] > PVS__CELL_V(f, 2, lo2 + e0));
 	}
 	pvs__cell_indices(f, c, idx);
-	for (k = 0; k < 3; ++k)
+	PVS__FOR3(k)
 		if (p[k] < pvs__cell_value(f, k, idx[k]) || p[k] > pvs__cell_value(f, k, idx[k + 3])) return 0;
 	return 1;
 }
@@ -24109,7 +24104,7 @@ PVS_API pvs_result pvs_file_decode(const pvs_file *f, uint32_t cell, pvs_word *b
 	if (cell >= f->cell_count)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
 	if (word_count < PVS_BITSET_WORDS(f->object_count))
-		return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "%llu words, %u objects need %llu",
+		return PVS__FAIL(err, PVS_ERROR_BUFFER_TOO_SMALL, "%llu words, %u objects need %llu",
 						 (unsigned long long)word_count, f->object_count,
 						 (unsigned long long)PVS_BITSET_WORDS(f->object_count));
 	pvs__file_decode(f, cell, bits, word_count);
@@ -24122,10 +24117,10 @@ PVS_API pvs_result pvs_cursor_init(pvs_cursor *c, const pvs_file *f, pvs_word *b
 	if (!c || !f || !f->data || !bits || !scratch || bits == scratch)
 		return PVS__BAD_ARG(err, "cursor, file, bits and scratch must be given, bits != scratch");
 	if (word_count < PVS_BITSET_WORDS(f->object_count))
-		return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "%llu words, %u objects need %llu",
+		return PVS__FAIL(err, PVS_ERROR_BUFFER_TOO_SMALL, "%llu words, %u objects need %llu",
 						 (unsigned long long)word_count, f->object_count,
 						 (unsigned long long)PVS_BITSET_WORDS(f->object_count));
-	memset(c, 0, sizeof(*c));
+	PVS__ZERO(*c);
 	c->file = f;
 	c->cell = PVS_NO_CELL;
 	c->bits = bits;
