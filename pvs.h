@@ -4686,8 +4686,9 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 		if (!(r->flags & PVS_RASTER_SCALAR)) {
 			keep = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax, cull);
 			if (n > 4) {
-				keep |= pvs__pf_simd(r, (const float *const(*)[3])(v + 4), &lanes, box + 4, zmax + 4, cull) << 4;
-				test |= (lanes & 15u) << 4 | (lanes >> 8) << 12;
+				unsigned half;
+				keep |= pvs__pf_simd(r, (const float *const(*)[3])(v + 4), &half, box + 4, zmax + 4, cull) << 4;
+				test |= (half & 15u) << 4 | (half >> 8) << 12;
 			}
 		} else
 #endif
