@@ -1,4 +1,4 @@
-/* pvs.h - v0.11.2 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.11.3 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -156,7 +156,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 11
-#define PVS_VERSION_PATCH 2
+#define PVS_VERSION_PATCH 3
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -15415,7 +15415,7 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 #define PVS__PO_DEPTH 200u /* BSP depth (deeper: empty leaf, conservative) */
 #define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* fragment faces: solid's, 1 per split */
 #define PVS__PO_CANDIDATES 48u /* split planes scored per node */
-#define PVS__PO_GROWS 6u /* region growths before whole portal */
+#define PVS__PO_GROWS 12u /* region growths before whole portal */
 #define PVS__PO_NORMAL_EPS 1e-6
 #define PVS__PO_DIST_EPS 1e-7 /* x scene size */
 #define PVS__PO_LEAF 0x80000000u /* child id bit: leaf */
@@ -16169,7 +16169,7 @@ typedef struct pvs__po_win {
 /* Step state (start leaf's portal q, or step src -> q): where lines from cell through earlier portals cross q. */
 typedef struct pvs__po_region {
 	uint32_t q, n, grows, from; /* from: portal before q (PVS__PO_NONE: q leaves a start leaf) */
-	uint32_t next, queued; /* queue: list through regions */
+	uint32_t key, queued; /* key: q's nearest vertex's squared distance from cell, float bits (queue's order) */
 	uint32_t vo, vcap; /* its n vertices at flow's pv + vo, room for vcap (a pool: most regions have a few) */
 } pvs__po_region;
 
@@ -16191,7 +16191,8 @@ typedef struct pvs__po_flow {
 	size_t reg_count, reg_cap;
 	double (*pv)[3]; /* regions' vertices */
 	size_t pv_count, pv_cap;
-	uint32_t head, tail; /* queue's first and last region, PVS__PO_NONE: empty */
+	uint64_t *heap; /* queue: min-heap of (key, region), nearest portal first */
+	size_t heap_count, heap_cap;
 	uint8_t *start; /* per leaf: cell overlaps it (2: cut-off flood reached it) */
 	uint32_t *leaves; /* start leaves, then flood's */
 	uint32_t leaf_count;
@@ -16413,6 +16414,28 @@ PVS__STATIC int pvs__po_grow(pvs__po_flow *f, uint32_t id, const pvs__po_wind *w
 	return 1;
 }
 
+/* Queue key of a step into portal q: least squared distance of its vertices from the cell box, as float bits (order
+   kept: >= 0). Along a line from the cell the distance never falls, so nearest first takes most steps after those into
+   them: fewer regions grow after their step (and past PVS__PO_GROWS); the fixed point is the same up to that cap. */
+PVS__STATIC uint32_t pvs__po_key(const pvs__po_flow *f, uint32_t q) {
+	const pvs__po_portal *pt = f->p->portals + q;
+	double best = DBL_MAX;
+	uint32_t i, k, u;
+	float b;
+	for (i = 0; i < pt->n; ++i) {
+		const double *x = f->p->portal_v[pt->first + i];
+		double t = 0.0;
+		PVS__FOR3(k) {
+			double e = x[k] < f->c[0][k] ? f->c[0][k] - x[k] : x[k] > f->c[7][k] ? x[k] - f->c[7][k] : 0.0;
+			t += e * e;
+		}
+		best = t < best ? t : best;
+	}
+	b = (float)(best < FLT_MAX ? best : FLT_MAX);
+	memcpy(&u, &b, sizeof(u));
+	return u;
+}
+
 /* Slot of state in f's hash: its pair, or free pair for it. */
 PVS__STATIC uint32_t *pvs__po_slot(const pvs__po_flow *f, uint32_t state) {
 	size_t h = (size_t)((state * 0x9E3779B97F4A7C15ull) >> 32) & (f->slot_cap - 1);
@@ -16446,6 +16469,34 @@ PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 	return (uint32_t)f->reg_count++;
 }
 
+/* Queues region id (not queued) by its key; OOM sets f->oom. */
+PVS__STATIC void pvs__po_enqueue(pvs__po_flow *f, uint32_t id) {
+	uint64_t x = (uint64_t)f->reg[id].key << 32 | id;
+	size_t c = f->heap_count;
+	if (!pvs__grow(&f->p->allocator, (void **)&f->heap, &f->heap_cap, c + 1, sizeof(uint64_t))) {
+		f->oom = 1;
+		return;
+	}
+	f->reg[id].queued = 1;
+	for (++f->heap_count; c && f->heap[(c - 1) / 2] > x; c = (c - 1) / 2) f->heap[c] = f->heap[(c - 1) / 2];
+	f->heap[c] = x;
+}
+
+/* Queue's nearest region (heap not empty), dequeued. */
+PVS__STATIC uint32_t pvs__po_dequeue(pvs__po_flow *f) {
+	uint64_t *h = f->heap, x = h[--f->heap_count];
+	uint32_t id = (uint32_t)h[0];
+	size_t c = 0, a, n = f->heap_count;
+	for (; (a = 2 * c + 1) < n; c = a) {
+		a += a + 1 < n && h[a + 1] < h[a];
+		if (h[a] >= x) break;
+		h[c] = h[a];
+	}
+	if (n) h[c] = x;
+	f->reg[id].queued = 0;
+	return id;
+}
+
 /* Offers `state` (step into portal q) lines crossing q within w: queued if new or grown to hold them. */
 PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t from, uint32_t q, const pvs__po_wind *w) {
 	pvs__po_region *r;
@@ -16460,17 +16511,12 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t from, u
 		r->q = q;
 		r->from = from;
 		r->n = r->grows = r->vcap = 0;
+		r->key = pvs__po_key(f, q);
 		pvs__po_set_region(f, r, w);
 	} else if (!pvs__po_grow(f, id, w)) {
 		return;
 	}
-	if (!f->reg[id].queued) {
-		f->reg[id].queued = 1;
-		f->reg[id].next = PVS__PO_NONE;
-		if (f->tail != PVS__PO_NONE) f->reg[f->tail].next = id;
-		else f->head = id;
-		f->tail = id;
-	}
+	if (!f->reg[id].queued) pvs__po_enqueue(f, id);
 }
 
 /* Flow from start leaves (Teller 1992 §5, monotone fixed point: module comment): a state (step into q, region v on q)
@@ -16494,12 +16540,9 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			pvs__po_offer(f, p->ep_first[p->portal_count] + q, PVS__PO_NONE, q, &w);
 		}
 	}
-	while (f->head != PVS__PO_NONE && !f->cut && !f->oom) {
-		uint32_t id = f->head, q, k;
+	while (f->heap_count && !f->cut && !f->oom) {
+		uint32_t id = pvs__po_dequeue(f), q, k;
 		const pvs__po_portal *pt;
-		f->reg[id].queued = 0;
-		f->head = f->reg[id].next;
-		if (f->head == PVS__PO_NONE) f->tail = PVS__PO_NONE;
 		q = f->reg[id].q;
 		pt = p->portals + q;
 		if (!(src = pvs__po_source(f, q, &set))) continue;
@@ -16765,7 +16808,6 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	if (!mem) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, (int64_t)cell, 0, "portal flow of cell %u", cell);
 	f.slot_cap = 64;
 	f.slot = PVS__ALLOC_N(al, uint32_t, 2 * f.slot_cap);
-	f.head = f.tail = PVS__PO_NONE;
 	f.leaves = (uint32_t *)(void *)mem;
 	f.start = (uint8_t *)(f.leaves + nl);
 	memset(f.start, 0, nl);
@@ -16787,6 +16829,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 		if (task < p->task_count) ++p->task_cut[task];
 	}
 	PVS__FREE_N(al, f.reg, f.reg_cap);
+	PVS__FREE_N(al, f.heap, f.heap_cap);
 	PVS__FREE_N(al, f.pv, f.pv_cap);
 	PVS__FREE_N(al, f.slot, 2 * f.slot_cap);
 	pvs__free(al, mem, bytes, 16);
@@ -24197,6 +24240,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
+   0.11.3 (2026-11-29) PORTAL: steps queued nearest portal first, 12 growths: -15% steps, PVS -0.1 to -4%.
    0.11.2 (2026-11-29) PORTAL: regions' vertices in a pool; no stalled store in pvs__po_try_plane: about -30%.
    0.11.1 (2026-11-29) raster: eight-lane AVX2 prefilter, no stalled stores in tile merging: a frame -15 to -20%.
    0.11.0 (2026-11-29) format 3: grid coordinate tables (16-bit steps), packed TREE offsets, no record depth; 2

@@ -2000,6 +2000,38 @@ static void test_portal_kernels(void) {
             ++missed; /* A on one side (the plane passes through it), B clear on the other by 4 eps */
         }
     }
+    { /* the flow's queue (pvs__po_enqueue, pvs__po_dequeue): regions leave in (key, id) order, as sorted; ties, and a
+         second round into the emptied heap */
+        pvs__poprep prep;
+        pvs__po_flow f;
+        pvs__po_region reg[300];
+        uint64_t want[300], x;
+        uint32_t id, r, n, i, j, bad = 0;
+        memset(&prep, 0, sizeof(prep));
+        memset(&f, 0, sizeof(f));
+        memset(reg, 0, sizeof(reg));
+        f.p = &prep;
+        f.reg = reg;
+        for (id = 0; id < 300; ++id) reg[id].key = (uint32_t)(test_rnd(&st) * (id & 1 ? 5.0 : 4e9)); /* odd: ties */
+        for (r = 0; r < 2; ++r) {
+            for (id = n = 0; id < 300; id += 1 + r) {
+                pvs__po_enqueue(&f, id);
+                want[n++] = (uint64_t)reg[id].key << 32 | id;
+            }
+            for (i = 1; i < n; ++i) { /* insertion sort: the reference */
+                for (j = i, x = want[i]; j > 0 && want[j - 1] > x; --j) want[j] = want[j - 1];
+                want[j] = x;
+            }
+            for (i = 0; i < n && f.heap_count; ++i) {
+                id = pvs__po_dequeue(&f);
+                bad += ((uint64_t)reg[id].key << 32 | id) != want[i] || reg[id].queued;
+            }
+            bad += i != n || f.heap_count != 0;
+        }
+        CHECK(bad == 0);
+        CHECK(!f.oom);
+        PVS__FREE_N(&prep.allocator, f.heap, f.heap_cap);
+    }
     CHECK(mismatch == 0);
     CHECK(wrong == 0);
     CHECK(missed == 0);
