@@ -1917,10 +1917,11 @@ static void test_sweep_subcells(void) {
    pvs__po_clip (which returns at once for a winding wholly behind) against pvs__po_split, on random points snapped to
    a coarse grid so that ties and points on the plane occur; then separating planes (pvs__po_try_plane, first tested
    unnormalized): every plane it makes has the first set within eps on its side and the second on the other (checked
-   in long double), and it finds the plane whenever both sets clear it by 4 eps. */
+   in long double), and it finds the plane whenever both sets clear it by 4 eps; a box's corners as the first set give
+   the same answer as the box itself (centre and half sizes: the flow's whole-cell source); and the flow's queue. */
 static void test_portal_kernels(void) {
     uint64_t st = 0x90a7a1ull; /* its own generator: the tests after it keep their sequences */
-    uint32_t t, mismatch = 0, wrong = 0, missed = 0, found = 0;
+    uint32_t t, mismatch = 0, wrong = 0, missed = 0, found = 0, boxes = 0;
     for (t = 0; t < 5000; ++t) {
         double v[16][3], pl[4], box[6] = {DBL_MAX, DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX, -DBL_MAX};
         double eps = t % 3 == 0 ? 0.0 : t % 3 == 1 ? 1e-9 : 0.25;
@@ -1954,14 +1955,25 @@ static void test_portal_kernels(void) {
         CHECK(pvs__po_clip(&a, pl, eps) == pvs__po_split(&w, pl, eps, NULL, &b));
         mismatch += a.n != b.n || memcmp(a.p, b.p, a.n * sizeof(a.p[0])) != 0;
     }
-    for (t = 0; t < 5000; ++t) { /* separating planes through (p0, p1, p2) between sets A and B */
-        double A[8][3], B[8][3], p[3][3], eps = 1e-6, n[3];
+    for (t = 0; t < 5000; ++t) { /* separating planes through (p0, p1, p2) between sets A and B; every other pair of
+                                     rounds A is a box's corners, tried also as the box (centre, half sizes): the
+                                     same answer and plane */
+        double A[8][3], B[8][3], p[3][3], eps = 1e-6, n[3], bx[6];
         long double ln[3], ld, lo = 0, hi = 0, blo = 0, bhi = 0, len;
         uint32_t na = 2 + (uint32_t)(test_rnd(&st) * 6.0), nb = 2 + (uint32_t)(test_rnd(&st) * 6.0), i, k;
-        pvs__po_win win;
-        int got;
+        pvs__po_win win, win2;
+        int got, boxed = t % 4 >= 2;
         for (i = 0; i < na; ++i)
             for (k = 0; k < 3; ++k) A[i][k] = test_rnd(&st) * 2.0 - (k == 2 ? 3.0 : 1.0);
+        if (boxed) {
+            for (k = 0; k < 3; ++k) {
+                double u = test_rnd(&st) * 2.0 - (k == 2 ? 3.0 : 1.0), v = test_rnd(&st) * 2.0 - (k == 2 ? 3.0 : 1.0);
+                bx[k] = 0.5 * (u + v);
+                bx[k + 3] = 0.5 * fabs(u - v);
+            }
+            for (na = 0; na < 8; ++na)
+                for (k = 0; k < 3; ++k) A[na][k] = bx[k] + ((na >> k) & 1 ? bx[k + 3] : -bx[k + 3]);
+        }
         for (i = 0; i < nb; ++i)
             for (k = 0; k < 3; ++k) B[i][k] = test_rnd(&st) * 2.0 - (k == 2 ? -1.0 : 1.0);
         for (k = 0; k < 3; ++k) { /* an edge of B and a point of A, or random points near the gap */
@@ -1970,7 +1982,14 @@ static void test_portal_kernels(void) {
             p[2][k] = t & 1 ? A[0][k] : test_rnd(&st) * 2.0 - 1.0;
         }
         win.np = 0;
-        got = pvs__po_try_plane(&win, p[0], p[1], p[2], (const double(*)[3])A, na, (const double(*)[3])B, nb, eps);
+        got = pvs__po_try_plane(&win, p[0], p[1], p[2], (const double(*)[3])A, na, (const double(*)[3])B, nb, eps,
+                                NULL);
+        if (boxed) {
+            win2.np = 0;
+            boxes += pvs__po_try_plane(&win2, p[0], p[1], p[2], (const double(*)[3])A, na, (const double(*)[3])B, nb,
+                                       eps, bx);
+            mismatch += (int)win2.np != got || (got && memcmp(win.pl[0], win2.pl[0], sizeof(win.pl[0])) != 0);
+        }
         for (k = 0; k < 3; ++k) n[k] = 0.0;
         ln[0] = ((long double)p[1][1] - p[0][1]) * ((long double)p[2][2] - p[0][2]) -
                 ((long double)p[1][2] - p[0][2]) * ((long double)p[2][1] - p[0][1]);
@@ -2036,6 +2055,7 @@ static void test_portal_kernels(void) {
     CHECK(wrong == 0);
     CHECK(missed == 0);
     CHECK(found > 25);
+    CHECK(boxes > 10);
     if (mismatch || wrong || missed || found <= 25)
         fprintf(stderr, "  portal kernels: %u mismatches, %u wrong planes, %u missed, %u found\n", mismatch, wrong,
                 missed, found);
