@@ -16203,7 +16203,8 @@ typedef struct pvs__po_flow {
 } pvs__po_flow;
 
 /* Plane through a, b, c if it separates A (na points, one side within eps) and B (nb, other): added to w keeping B's
-   side (Teller 1992 §5.2 separating plane; dropped if w is full: fewer planes, more lines); 1 if so. */
+   side (Teller 1992 §5.2 separating plane; dropped if w is full: fewer planes, more lines); 1 if so. box (centre, half
+   sizes) not NULL: A is that box's corners, tested at once. */
 PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
 								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps,
 								   const double *box) {
@@ -16245,7 +16246,8 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 }
 
 /* Appends to w->pl planes bounding lines from convex set c through region w->v (Teller 1992 §5.2 separating ones):
-   through an edge of one and vertex of other, c and w on opposite sides. A set meeting w has none. */
+   through an edge of one and vertex of other, c and w on opposite sides. A set meeting w has none. box: c is a whole
+   box (pvs__po_try_plane's). */
 PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps, const double *box) {
 	uint32_t i, j;
 	for (i = 0; i < w->nv; ++i)
