@@ -1918,7 +1918,8 @@ static void test_sweep_subcells(void) {
    a coarse grid so that ties and points on the plane occur; then separating planes (pvs__po_try_plane, first tested
    unnormalized): every plane it makes has the first set within eps on its side and the second on the other (checked
    in long double), and it finds the plane whenever both sets clear it by 4 eps; a box's corners as the first set give
-   the same answer as the box itself (centre and half sizes: the flow's whole-cell source); and the flow's queue. */
+   the same answer as the box itself (centre and half sizes: the flow's whole-cell source); the flow's queue; and its
+   clipped cell boxes kept by plane. */
 static void test_portal_kernels(void) {
     uint64_t st = 0x90a7a1ull; /* its own generator: the tests after it keep their sequences */
     uint32_t t, mismatch = 0, wrong = 0, missed = 0, found = 0, boxes = 0;
@@ -2050,6 +2051,47 @@ static void test_portal_kernels(void) {
         CHECK(bad == 0);
         CHECK(!f.oom);
         PVS__FREE_N(&prep.allocator, f.heap, f.heap_cap);
+    }
+    { /* pvs__po_source: the clipped boxes kept by plane against each made anew (a flow without them), on portals
+         that share planes, in random order */
+        pvs__poprep prep;
+        pvs__po_flow f, g;
+        pvs__po_portal por[48];
+        double pl[96][4];
+        pvs__po_set s1, s2;
+        uint32_t i, k, q, kept = 0, none = 0;
+        memset(&prep, 0, sizeof(prep));
+        memset(por, 0, sizeof(por));
+        prep.eps = 1e-9;
+        prep.portals = por;
+        prep.pl = pl;
+        for (i = 0; i < 96; ++i) {
+            double len = 0.0;
+            for (k = 0; k < 3; ++k) pl[i][k] = i % 5 == 0 ? (double)(k == i % 3) : test_rnd(&st) - 0.5, len += pl[i][k] * pl[i][k];
+            for (k = 0; k < 3; ++k) pl[i][k] /= sqrt(len);
+            pl[i][3] = i % 7 == 0 ? 1.0 : test_rnd(&st) * 3.0 - 1.5; /* some through a face or missing the box */
+        }
+        for (q = 0; q < 48; ++q) por[q].plane = (uint32_t)(test_rnd(&st) * 96.0);
+        memset(&f, 0, sizeof(f));
+        f.p = &prep;
+        for (i = 0; i < 8; ++i)
+            for (k = 0; k < 3; ++k) f.c[i][k] = (i >> k) & 1 ? 1.0 : -1.0;
+        g = f;
+        pvs__po_sources(&f, 1);
+        CHECK(f.srcs != NULL);
+        for (i = 0; i < 3000; ++i) {
+            const pvs__po_set *a, *b;
+            q = (uint32_t)(test_rnd(&st) * 48.0);
+            a = pvs__po_source(&f, q, &s1);
+            b = pvs__po_source(&g, q, &s2);
+            kept += a != NULL && a != &s1 && a != &f.box;
+            none += a == NULL;
+            mismatch += !a != !b || (a && (a->n != b->n || a->ne != b->ne || memcmp(a->v, b->v, a->n * sizeof(a->v[0])) ||
+                                           memcmp(a->e, b->e, a->ne * sizeof(a->e[0]))));
+        }
+        CHECK(kept > 100 && none > 10);
+        pvs__po_sources(&f, 0);
+        CHECK(f.srcs == NULL);
     }
     CHECK(mismatch == 0);
     CHECK(wrong == 0);
