@@ -191,6 +191,28 @@ static void tb_reads(void) {
         mesh_cells_free(&c);
         bsp_pvs_free(&pvs);
     }
+    /* clearance 1: leaf 0's +x face (Quake x = 0) has only the solid leaf 2 beyond it (node 0's back, node 1's
+       back), so it moves 1 unit in (Y up: max x 0 -> -1); its other faces open on leaf 0 itself, leaf 1's on leaf 0
+       or itself; a clearance that is not a distance is refused */
+    {
+        bsp_options o;
+        memset(&o, 0, sizeof(o));
+        o.clearance = 1;
+        CHECK(bsp_parse("t.bsp", t.bytes, t.size, &o, &m, &c, NULL, &st, &err) == 0);
+        CHECK(c.count == 2 && st.wall_faces == 1 && c.boxes[3] == -1 && c.boxes[0] == -100 && c.boxes[1] == 64 &&
+              c.boxes[2] == -100 && c.boxes[4] == 200 && c.boxes[5] == 100 && c.boxes[6] == 0 && c.boxes[9] == 100);
+        mesh_free(&m);
+        mesh_cells_free(&c);
+        o.clearance = 200; /* leaf 0 is 100 wide: its x faces would cross, so it keeps them */
+        CHECK(bsp_parse("t.bsp", t.bytes, t.size, &o, &m, &c, NULL, &st, &err) == 0);
+        CHECK(st.wall_faces == 0 && c.boxes[3] == 0);
+        mesh_free(&m);
+        mesh_cells_free(&c);
+        o.clearance = NAN;
+        CHECK(bsp_parse("t.bsp", t.bytes, t.size, &o, &m, &c, NULL, &st, &err) == -1 && strstr(err.message, "clearance"));
+        mesh_free(&m);
+        mesh_cells_free(&c);
+    }
     /* without vis data every cell sees everything; a water brush does not block */
     t.len[16] = 0;
     tb_put32(t.bytes + 12 + 8 * 16, 0);
@@ -248,6 +270,7 @@ static void tb_errors(void) {
     tb_bad(t.at[7] + 40 + 28, 5, "models[1]: surface range 2+5");
     tb_bad(t.at[4] + 8, 500, "leafs[0]: bounds min > max");
     tb_bad(t.at[3] + 8, 7, "nodes[0]: child 7 out of range");
+    tb_bad(t.at[3], 9, "nodes[0]: plane 9 not in [0, 6)");
     tb_bad(t.at[3] + 36 + 8, (uint32_t)-10, "nodes[1]: leaf 9 out of range");
     tb_bad(t.at[3] + 36 + 8, 0, "nodes[1]: child 0 reached twice");
     /* every truncated prefix fails cleanly (no crash, no leak) */
@@ -271,7 +294,13 @@ static void tb_tool(void) {
     if (f) fclose(f);
     CHECK(test_run("bsp-test", "./pvsimport bsp-test/t.bsp -o bsp-test/t.obj --cells bsp-test/t.cells --pvs bsp-test/t.pvs",
                    &out) == 0);
-    CHECK(strstr(out, "3 surfaces (1 patches") && strstr(out, "2 cells"));
+    CHECK(strstr(out, "3 surfaces (1 patches") && strstr(out, "2 cells") && strstr(out, "1 faces kept 1 off walls"));
+    free(out);
+    CHECK(test_run("bsp-test", "./pvsimport bsp-test/t.bsp -o bsp-test/t0.obj --clearance 0", &out) == 0 &&
+          strstr(out, "0 faces kept 0 off walls"));
+    free(out);
+    CHECK(test_run("bsp-test", "./pvsimport bsp-test/t.bsp -o x.obj --clearance -1", &out) == 2 &&
+          strstr(out, "--clearance takes a distance"));
     free(out);
     CHECK(test_run("bsp-test", "./pvsinfo --dump bsp-test/t.pvs", &out) == 0);
     CHECK(strstr(out, "0: 0 1\n") && strstr(out, "1: 0 1 2\n"));

@@ -417,15 +417,23 @@ static int read_brushes(const bsp_reader *r, mesh *m, bsp_stats *st, tool_error 
 
 /* ---- cells and the level's PVS ---- */
 
+/* A leaf's bounds in Quake coordinates (Z up). */
+static void leaf_bounds(const uint8_t *leaf, double lo[3], double hi[3]) {
+    for (int k = 0; k < 3; ++k) lo[k] = rd_i32(leaf + 8 + 4 * k), hi[k] = rd_i32(leaf + 20 + 4 * k);
+}
+/* Quake bounds to a Y-up box: (x, y, z) -> (x, z, -y). */
+static void y_up_box(const double lo[3], const double hi[3], float box[6]) {
+    box[0] = (float)lo[0];
+    box[1] = (float)lo[2];
+    box[2] = (float)-hi[1];
+    box[3] = (float)hi[0];
+    box[4] = (float)hi[2];
+    box[5] = (float)-lo[1];
+}
 static void leaf_box(const uint8_t *leaf, float box[6]) {
-    float lo[3] = {(float)rd_i32(leaf + 8), (float)rd_i32(leaf + 12), (float)rd_i32(leaf + 16)};
-    float hi[3] = {(float)rd_i32(leaf + 20), (float)rd_i32(leaf + 24), (float)rd_i32(leaf + 28)};
-    box[0] = lo[0];
-    box[1] = lo[2];
-    box[2] = -hi[1];
-    box[3] = hi[0];
-    box[4] = hi[2];
-    box[5] = -lo[1];
+    double lo[3], hi[3];
+    leaf_bounds(leaf, lo, hi);
+    y_up_box(lo, hi, box);
 }
 
 /* Marks r->in_world: the leaves of the world's tree, walked from node 0, each node once. Leaves outside it
@@ -445,6 +453,7 @@ static int read_tree(bsp_reader *r, tool_error *err) {
     if (nn) stack[top++] = 0, seen[0] = 1;
     while (top) {
         uint32_t n = stack[--top];
+        if (check_index(r, L_NODES, n, "plane", rd_i32(rec(r, L_NODES, n)), r->l[L_PLANES].count)) goto done;
         for (int k = 0; k < 2; ++k) {
             int32_t c = rd_i32(rec(r, L_NODES, n) + 4 + 4 * k);
             if (c >= 0 && ((uint32_t)c >= nn || seen[c])) {
@@ -474,24 +483,87 @@ static int leaf_is_cell(const bsp_reader *r, uint32_t i, uint32_t *k) {
     return (*k)++ % r->cell_step == 0;
 }
 
-static int read_cells(const bsp_reader *r, mesh_cells *cells, bsp_stats *st, tool_error *err) {
+/* 1 if every leaf of the world's tree that the box lo..hi (Quake coordinates) reaches has no cluster: the box lies
+   in walls or in the void. A node's plane sends the box to both children unless it lies wholly on one side (a NaN
+   plane: both). Each node is reached once (read_tree checked the tree), so `stack` holds the node count. */
+static int box_solid(const bsp_reader *r, const double lo[3], const double hi[3], uint32_t *stack) {
+    uint32_t top = 0;
+    if (r->l[L_NODES].count == 0) return 0;
+    stack[top++] = 0;
+    while (top) {
+        const uint8_t *node = rec(r, L_NODES, stack[--top]), *pl = rec(r, L_PLANES, (uint32_t)rd_i32(node));
+        double m = -(double)rd_f32(pl + 12), e = 0;
+        for (int k = 0; k < 3; ++k) {
+            double n = rd_f32(pl + 4 * k);
+            m += n * 0.5 * (lo[k] + hi[k]);
+            e += fabs(n) * 0.5 * (hi[k] - lo[k]);
+        }
+        for (int k = 0; k < 2; ++k) { /* front (n.p >= dist), back */
+            if (k == 0 ? m + e < 0 : m - e >= 0) continue;
+            int32_t c = rd_i32(node + 4 + 4 * k);
+            if (c >= 0) stack[top++] = (uint32_t)c;
+            else if (rd_i32(rec(r, L_LEAFS, (uint32_t)-(c + 1))) >= 0) return 0;
+        }
+    }
+    return 1;
+}
+
+/* The leaf's bounds with each face whose outside is wall kept `c` units off it: the slab from c / 4 to c beyond the
+   face, inset c / 4 from its edges, reaches only leaves without a cluster. An axis whose two faces would cross keeps
+   its bounds. Returns the faces moved. */
+static uint32_t keep_off_walls(const bsp_reader *r, double c, double lo[3], double hi[3], uint32_t *stack) {
+    double nlo[3], nhi[3];
+    uint32_t moved = 0;
+    for (int a = 0; a < 3; ++a) {
+        nlo[a] = lo[a], nhi[a] = hi[a];
+        for (int side = 0; side < 2 && c > 0; ++side) {
+            double sl[3], sh[3];
+            int thin = 0;
+            for (int b = 0; b < 3; ++b) {
+                sl[b] = lo[b] + 0.25 * c, sh[b] = hi[b] - 0.25 * c;
+                thin |= b != a && sl[b] > sh[b];
+            }
+            sl[a] = side ? hi[a] + 0.25 * c : lo[a] - c;
+            sh[a] = side ? hi[a] + c : lo[a] - 0.25 * c;
+            if (thin || !box_solid(r, sl, sh, stack)) continue;
+            *(side ? &nhi[a] : &nlo[a]) += side ? -c : c;
+        }
+    }
+    for (int a = 0; a < 3; ++a) {
+        if (nlo[a] > nhi[a]) continue;
+        moved += (nlo[a] != lo[a]) + (nhi[a] != hi[a]);
+        lo[a] = nlo[a], hi[a] = nhi[a];
+    }
+    return moved;
+}
+
+static int read_cells(const bsp_reader *r, double clearance, mesh_cells *cells, bsp_stats *st, tool_error *err) {
+    uint32_t *stack = (uint32_t *)malloc(((size_t)r->l[L_NODES].count + 1) * sizeof(uint32_t));
+    if (!stack) {
+        tool_error_set(err, r->path, 0, "out of memory");
+        return -1;
+    }
     for (uint32_t i = 0, k = 0; i < r->l[L_LEAFS].count; ++i) {
         const uint8_t *leaf = rec(r, L_LEAFS, i);
+        double lo[3], hi[3];
         float box[6];
         if (!r->in_world[i] || rd_i32(leaf) < 0) continue;
         ++st->leaves;
-        leaf_box(leaf, box);
-        if (!(box[0] <= box[3] && box[1] <= box[4] && box[2] <= box[5])) {
+        leaf_bounds(leaf, lo, hi);
+        if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) {
             tool_error_set(err, r->path, 0, "leafs[%u]: bounds min > max", i);
-            return -1;
+            return free(stack), -1;
         }
         if (!leaf_is_cell(r, i, &k)) continue;
+        st->wall_faces += keep_off_walls(r, clearance, lo, hi, stack);
+        y_up_box(lo, hi, box);
         if (cells && mesh_cells_add(cells, box)) {
             tool_error_set(err, r->path, 0, "out of memory");
-            return -1;
+            return free(stack), -1;
         }
         ++st->cells;
     }
+    free(stack);
     return 0;
 }
 
@@ -680,8 +752,12 @@ int bsp_parse(const char *path, const void *data, size_t size, const bsp_options
         tool_error_set(err, path, 0, "patch level %u: at most 32", level);
         goto done;
     }
+    if (opt && !(opt->clearance >= 0 && opt->clearance <= 1e6)) {
+        tool_error_set(err, path, 0, "clearance %g: not a distance from 0 to 1e6", opt->clearance);
+        goto done;
+    }
     if (read_header(&r, (const uint8_t *)data, size) || read_surfaces(&r, level, m, &st, err) ||
-        read_brushes(&r, m, &st, err) || read_tree(&r, err) || read_cells(&r, cells, &st, err))
+        read_brushes(&r, m, &st, err) || read_tree(&r, err) || read_cells(&r, opt ? opt->clearance : 0, cells, &st, err))
         goto done;
     if (pvs && read_pvs(&r, m->object_count, st.cells, pvs, &st, err)) goto done;
     read_spawn(&r, &st);

@@ -14,7 +14,14 @@
      brushes that touch leave no crack. It blocks sight and is never drawn. Planar surfaces lie on brush
      faces: they are lifted 0.01 units along their normal, so a hull never hides the surface drawn on it.
    - View cells: one per BSP leaf with a cluster (leaves in solid space have none), in leaf order,
-     each the leaf's bounding box.
+     each the leaf's bounding box, except that a face whose outside is all wall (or void: leaves without
+     a cluster) moves `clearance` units inward. A camera is never on a wall (the near plane and the
+     player's hull keep it off: Quake 3's near plane is 4 units, its player 15 units wide each side of
+     the eye), and a box that touches a wall holds points on the wall's surface, from which a ray grazes
+     into the brush and sees what is drawn on its far side: the bake must then keep the next room's
+     walls (q3map2's vis, working from portals, never does). A face is wall when the slab from 1/4 to 1
+     clearance beyond it, inset 1/4 from its edges, reaches only such leaves; faces partly on portals
+     stay, so the cells cover every point of the leaves more than 1.3 clearances from a wall.
    - The level's PVS (what q3map2's vis computed) expanded to objects: cell c sees every surface of
      every leaf whose cluster is visible from c's cluster, and the surfaces of the inline models
      (doors, platforms) whose bounds meet such a leaf's box. A level compiled without vis sees all.
@@ -37,6 +44,7 @@
 typedef struct bsp_options {
     uint32_t patch_level;     /* quads per side of each 3 x 3 patch block: 0 = 4, at most 32 */
     uint32_t cell_step;       /* keep every cell_step-th cell only (0 or 1: every cell), for quick measurements */
+    double clearance;         /* cells keep this far off walls (0: the leaves' boxes; pvsimport's default: 1) */
 } bsp_options;
 
 typedef struct bsp_stats {
@@ -44,6 +52,7 @@ typedef struct bsp_stats {
     uint32_t brushes, occluder_brushes, hull_triangles;
     uint32_t leaves, clusters;  /* leaves with a cluster, clusters in the vis data */
     uint32_t cells;             /* cells made: the leaves with a cluster, every cell_step-th */
+    uint32_t wall_faces;        /* cell faces kept `clearance` off a wall */
     int has_vis;                /* the level has vis data (else its PVS is everything) */
     int has_spawn;              /* the entities name a player start (info_player_*) with an origin */
     float spawn[3];             /* the first one's origin, Y up: a seed for pvsbake --walk-from */

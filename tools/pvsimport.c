@@ -12,10 +12,14 @@ static const char *usage =
     "  -o OUT.obj        the scene, Y up: object i is the level's drawn surface i (patches tessellated;\n"
     "                    flares and nodraw surfaces have no faces), then one object 'occluder_brushes',\n"
     "                    the hulls of the world's solid opaque brushes (blocks sight, never drawn)\n"
-    "  --cells OUT.cells one view cell per BSP leaf with a cluster, its bounding box, in leaf order\n"
+    "  --cells OUT.cells one view cell per BSP leaf with a cluster, its bounding box, in leaf order;\n"
+    "                    faces whose outside is all wall kept --clearance units off it\n"
     "  --pvs OUT.pvs     the level's own PVS (q3map2's vis) expanded to those objects, one record per\n"
     "                    cell, as a .pvs file: compare it with a bake (pvsinfo, pvscheck, make bench)\n"
     "  --patch-level N   quads per side of each 3x3 patch block (default 4, at most 32)\n"
+    "  --clearance U     how far cells keep off walls (default 1; 0: the leaves' boxes). A camera is\n"
+    "                    never on a wall; a box touching one holds points from which a ray grazes\n"
+    "                    into the wall and sees what is drawn on its far side, which the bake must keep\n"
     "  --cell-step N     keep every N-th cell only (in --cells and --pvs alike), for quick measurements\n"
     "  -q, --quiet       no summary\n"
     "  A .pk3 is a zip archive: extract the .bsp first (unzip -p PAK.pk3 maps/NAME.bsp > NAME.bsp).\n"
@@ -24,11 +28,13 @@ static const char *usage =
 typedef struct import_options {
     const char *bsp, *obj, *cells, *pvs;
     uint32_t patch_level, cell_step;
+    double clearance;
     int quiet;
 } import_options;
 
 static int parse_options(int argc, char **argv, import_options *o) {
     memset(o, 0, sizeof(*o));
+    o->clearance = 1;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -43,6 +49,12 @@ static int parse_options(int argc, char **argv, import_options *o) {
         } else if (!strcmp(a, "--patch-level")) {
             if (!v || cli_parse_u32(v, 1, 32, &o->patch_level))
                 return tool_usage_error(TOOL, "--patch-level takes a number from 1 to 32");
+            ++i;
+        } else if (!strcmp(a, "--clearance")) {
+            char *end;
+            o->clearance = v ? strtod(v, &end) : -1;
+            if (!v || *end || end == v || !(o->clearance >= 0 && o->clearance <= 1e6))
+                return tool_usage_error(TOOL, "--clearance takes a distance from 0 to 1e6");
             ++i;
         } else if (!strcmp(a, "--cell-step")) {
             if (!v || cli_parse_u32(v, 1, 1u << 30, &o->cell_step))
@@ -114,6 +126,7 @@ int main(int argc, char **argv) {
     memset(&bo, 0, sizeof(bo));
     bo.patch_level = o.patch_level;
     bo.cell_step = o.cell_step;
+    bo.clearance = o.clearance;
     if (read_file(o.bsp, &data, &size, &err)) {
         fprintf(stderr, "%s: %s\n", TOOL, err.message);
         return 1;
@@ -127,10 +140,11 @@ int main(int argc, char **argv) {
     else if (!o.quiet)
         fprintf(stderr,
                 "%s: %s: %u surfaces (%u patches, %u without faces, %u see-through), %u triangles; "
-                "%u of %u world brushes solid and opaque (%u hull triangles); %u cells (of %u leaves with a cluster), "
-                "%u clusters, %s\n",
+                "%u of %u world brushes solid and opaque (%u hull triangles); %u cells (of %u leaves with a cluster; "
+                "%u faces kept %g off walls), %u clusters, %s\n",
                 TOOL, o.bsp, st.surfaces, st.patches, st.empty_surfaces, st.translucent_surfaces, m.triangle_count,
-                st.occluder_brushes, st.brushes, st.hull_triangles, st.cells, st.leaves, st.clusters,
+                st.occluder_brushes, st.brushes, st.hull_triangles, st.cells, st.leaves, st.wall_faces, o.clearance,
+                st.clusters,
                 st.has_vis ? "vis data" : "no vis data (its PVS is everything)");
     if (!rc && !o.quiet && st.has_spawn)
         fprintf(stderr, "%s: view cells where players stand: pvsbake --cells walkable:128 --eye-height 50 --step-height 18; "
