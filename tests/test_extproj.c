@@ -2059,7 +2059,7 @@ static void test_portal_kernels(void) {
         pvs__po_portal por[48];
         double pl[96][4];
         pvs__po_set s1, s2;
-        uint32_t i, k, q, kept = 0, none = 0;
+        uint32_t i, j, k, q, kept = 0, none = 0, skipped = 0, planes = 0;
         memset(&prep, 0, sizeof(prep));
         memset(por, 0, sizeof(por));
         prep.eps = 1e-9;
@@ -2076,6 +2076,7 @@ static void test_portal_kernels(void) {
         f.p = &prep;
         for (i = 0; i < 8; ++i)
             for (k = 0; k < 3; ++k) f.c[i][k] = (i >> k) & 1 ? 1.0 : -1.0;
+        for (k = 0; k < 3; ++k) f.bc[k] = 0.0, f.bc[k + 3] = 1.0;
         g = f;
         pvs__po_sources(&f, 1);
         CHECK(f.srcs != NULL);
@@ -2088,8 +2089,28 @@ static void test_portal_kernels(void) {
             none += a == NULL;
             mismatch += !a != !b || (a && (a->n != b->n || a->ne != b->ne || memcmp(a->v, b->v, a->n * sizeof(a->v[0])) ||
                                            memcmp(a->e, b->e, a->ne * sizeof(a->e[0]))));
+            if (a && i % 3 == 0) { /* the silhouette skip (edges' faces) finds the planes a search of every pair finds */
+                pvs__po_win w1, w2;
+                double o[3], u[3], v[3];
+                for (k = 0; k < 3; ++k) o[k] = (test_rnd(&st) - 0.5) * 8.0, u[k] = test_rnd(&st) - 0.5, v[k] = test_rnd(&st) - 0.5;
+                w1.nv = 3 + (uint32_t)(test_rnd(&st) * 3.0);
+                w1.np = 0;
+                for (j = 0; j < w1.nv; ++j) { /* a convex polygon: points on an ellipse */
+                    double ang = 6.283185307179586 * j / w1.nv, r = 0.3 + test_rnd(&st) * 0.05;
+                    for (k = 0; k < 3; ++k) w1.v[j][k] = o[k] + r * (cos(ang) * u[k] + sin(ang) * v[k]);
+                }
+                w2 = w1;
+                s2 = *a;
+                s2.faces = 0;
+                pvs__po_window_planes(&w1, a, 1e-10, 1e-6, a == &f.box ? f.bc : NULL);
+                pvs__po_window_planes(&w2, &s2, 1e-10, 1e-6, a == &f.box ? f.bc : NULL);
+                skipped += w1.np != w2.np || memcmp(w1.pl, w2.pl, w1.np * sizeof(w1.pl[0]));
+                planes += w1.np;
+            }
         }
         CHECK(kept > 100 && none > 10);
+        CHECK(skipped == 0 && planes > 1000);
+        if (skipped || planes <= 1000) fprintf(stderr, "  silhouette skip: %u windows differ, %u planes\n", skipped, planes);
         pvs__po_sources(&f, 0);
         CHECK(f.srcs == NULL);
     }
