@@ -21,7 +21,8 @@
      into the brush and sees what is drawn on its far side: the bake must then keep the next room's
      walls (q3map2's vis, working from portals, never does). A face is wall when the slab from 1/4 to 1
      clearance beyond it, inset 1/4 from its edges, reaches only such leaves; faces partly on portals
-     stay, so the cells cover every point of the leaves more than 1.3 clearances from a wall.
+     stay, so the cells cover every point of the leaves more than 1.3 clearances from a wall (a camera
+     nearer may be in no cell: pvs_file_find_cell returns PVS_NO_CELL).
    - The level's PVS (what q3map2's vis computed) expanded to objects: cell c sees every surface of
      every leaf whose cluster is visible from c's cluster, and the surfaces of the inline models
      (doors, platforms) whose bounds meet such a leaf's box. A level compiled without vis sees all.
