@@ -512,22 +512,20 @@ static int box_solid(const bsp_reader *r, const double lo[3], const double hi[3]
    face, inset c / 4 from its edges, reaches only leaves without a cluster. An axis whose two faces would cross keeps
    its bounds. Returns the faces moved. */
 static uint32_t keep_off_walls(const bsp_reader *r, double c, double lo[3], double hi[3], uint32_t *stack) {
-    double nlo[3], nhi[3];
+    double nlo[3], nhi[3], sl[3], sh[3];
     uint32_t moved = 0;
+    if (!(c > 0)) return 0;
+    for (int b = 0; b < 3; ++b) sl[b] = lo[b] + 0.25 * c, sh[b] = hi[b] - 0.25 * c; /* the slabs' inset sides */
     for (int a = 0; a < 3; ++a) {
+        double keep_lo = sl[a], keep_hi = sh[a];
         nlo[a] = lo[a], nhi[a] = hi[a];
-        for (int side = 0; side < 2 && c > 0; ++side) {
-            double sl[3], sh[3];
-            int thin = 0;
-            for (int b = 0; b < 3; ++b) {
-                sl[b] = lo[b] + 0.25 * c, sh[b] = hi[b] - 0.25 * c;
-                thin |= b != a && sl[b] > sh[b];
-            }
+        if (sl[(a + 1) % 3] > sh[(a + 1) % 3] || sl[(a + 2) % 3] > sh[(a + 2) % 3]) continue; /* a face too thin */
+        for (int side = 0; side < 2; ++side) {
             sl[a] = side ? hi[a] + 0.25 * c : lo[a] - c;
             sh[a] = side ? hi[a] + c : lo[a] - 0.25 * c;
-            if (thin || !box_solid(r, sl, sh, stack)) continue;
-            *(side ? &nhi[a] : &nlo[a]) += side ? -c : c;
+            if (box_solid(r, sl, sh, stack)) *(side ? &nhi[a] : &nlo[a]) += side ? -c : c;
         }
+        sl[a] = keep_lo, sh[a] = keep_hi;
     }
     for (int a = 0; a < 3; ++a) {
         if (nlo[a] > nhi[a]) continue;

@@ -51,10 +51,10 @@ static int parse_options(int argc, char **argv, import_options *o) {
                 return tool_usage_error(TOOL, "--patch-level takes a number from 1 to 32");
             ++i;
         } else if (!strcmp(a, "--clearance")) {
-            char *end;
-            o->clearance = v ? strtod(v, &end) : -1;
-            if (!v || *end || end == v || !(o->clearance >= 0 && o->clearance <= 1e6))
+            float c;
+            if (parse_float(v, &c) || !(c >= 0.0f && c <= 1e6f))
                 return tool_usage_error(TOOL, "--clearance takes a distance from 0 to 1e6");
+            o->clearance = c;
             ++i;
         } else if (!strcmp(a, "--cell-step")) {
             if (!v || cli_parse_u32(v, 1, 1u << 30, &o->cell_step))
