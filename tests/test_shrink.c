@@ -542,22 +542,32 @@ static void add_prism(mesh *m, const char *name, const double *xz, int n, double
     for (i = 1; i + 1 < (uint32_t)n; ++i) mesh_add_triangle(m, base + (uint32_t)n, base + (uint32_t)n + i, base + (uint32_t)n + i + 1); /* fan: star-shaped from the first point */
 }
 
-/* 1 if the segment from eye e (x, y, z; y up) to p crosses a facade of the chains below its top. */
-static int chains_block(const pvs_facade_chain *ch, uint32_t nch, const double *e, const double *p) {
-    uint32_t c, k;
-    for (c = 0; c < nch; ++c) {
-        uint32_t n = ch[c].point_count, segs = ch[c].closed ? n : n - 1;
-        for (k = 0; k < segs; ++k) {
-            const float *a = ch[c].points + 2 * k, *b = ch[c].points + 2 * ((k + 1) % n);
-            double rx = p[0] - e[0], rz = p[2] - e[2], sx = (double)b[0] - a[0], sz = (double)b[1] - a[1];
-            double den = rx * sz - rz * sx, qx = (double)a[0] - e[0], qz = (double)a[1] - e[2], t, u2;
-            if (den == 0.0) continue;
-            t = (qx * sz - qz * sx) / den;  /* along e-p */
-            u2 = (qx * rz - qz * rx) / den; /* along a-b */
-            if (t <= 0.0 || t >= 1.0 || u2 < 0.0 || u2 > 1.0) continue;
-            if (e[1] + t * (p[1] - e[1]) < ch[c].top) return 1;
-        }
+/* 1 if the segment from eye e (x, y, z; y up) to p crosses a facade of chain c below its top. */
+static int chain_blocks(const pvs_facade_chain *ch, const double *e, const double *p) {
+    uint32_t k, n = ch->point_count, segs = ch->closed ? n : n - 1;
+    for (k = 0; k < segs; ++k) {
+        const float *a = ch->points + 2 * k, *b = ch->points + 2 * ((k + 1) % n);
+        double rx = p[0] - e[0], rz = p[2] - e[2], sx = (double)b[0] - a[0], sz = (double)b[1] - a[1];
+        double den = rx * sz - rz * sx, qx = (double)a[0] - e[0], qz = (double)a[1] - e[2], t, u2;
+        if (den == 0.0) continue;
+        t = (qx * sz - qz * sx) / den;  /* along e-p */
+        u2 = (qx * rz - qz * rx) / den; /* along a-b */
+        if (t <= 0.0 || t >= 1.0 || u2 < 0.0 || u2 > 1.0) continue;
+        if (e[1] + t * (p[1] - e[1]) < ch->top) return 1;
     }
+    return 0;
+}
+
+/* 1 if the segment from e to p crosses a facade of any of the chains below its top; *hint, the chain
+   that blocked the last point, is tried first (neighbouring points mostly share it). */
+static int chains_block(const pvs_facade_chain *ch, uint32_t nch, const double *e, const double *p, uint32_t *hint) {
+    uint32_t c;
+    if (*hint < nch && chain_blocks(ch + *hint, e, p)) return 1;
+    for (c = 0; c < nch; ++c)
+        if (c != *hint && chain_blocks(ch + c, e, p)) {
+            *hint = c;
+            return 1;
+        }
     return 0;
 }
 
@@ -640,7 +650,7 @@ static void test_random_prisms(void) {
                 culled += n - pvs_bitset_count(pv, n);
             }
             if ((c & 1) && pv) { /* a point cell: every point of a culled box is behind the shrunk chains */
-                uint32_t nch;
+                uint32_t nch, hint = 0;
                 const pvs_facade_chain *ch = pvs_occluders_columns(pvs_bake_occluders(b), &nch);
                 double e3[3];
                 e3[0] = cells[c].min[0]; e3[1] = cells[c].max[1]; e3[2] = cells[c].min[2];
@@ -657,7 +667,7 @@ static void test_random_prisms(void) {
                                 pt[ax] = fa & 1 ? bx.max[ax] : bx.min[ax];
                                 pt[a1] = bx.min[a1] + f0 * ((double)bx.max[a1] - bx.min[a1]);
                                 pt[a2] = bx.min[a2] + f1 * ((double)bx.max[a2] - bx.min[a2]);
-                                if (!chains_block(ch, nch, e3, pt)) ++unblocked;
+                                if (!chains_block(ch, nch, e3, pt, &hint)) ++unblocked;
                             }
                 }
             }
