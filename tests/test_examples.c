@@ -247,7 +247,9 @@ static void test_bake_options(void) {
           strstr(out, "walkable: ") && strstr(out, "walk.walkable.cells"));
     free(out);
     CHECK(test_exists(EDIR "/walk.walkable.cells"));
-    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/walk.pvs --points 8 --rays 512", &out) == 0 && strstr(out, "misses 0")); free(out);
+    /* pvscheck here with 8 aimed rays per unseen object (default 32): these check the options' plumbing; the methods'
+       own groups check conservativeness with dense rays */
+    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/walk.pvs --points 8 --rays 512 --aim 8", &out) == 0 && strstr(out, "misses 0")); free(out);
     CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells walkable:0 -o " EDIR "/w2.pvs", &out) == 2 && strstr(out, "walkable:SIZE")); free(out);
     CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells walkable --step-height 0 -o " EDIR "/w2.pvs", &out) == 2 &&
           strstr(out, "--step-height needs a positive height"));
@@ -270,18 +272,18 @@ static void test_bake_options(void) {
           !strstr(out, "shrink"));
     free(out);
     CHECK(ex_run("./pvsinfo " EDIR "/opt.pvs", &out) == 0 && strstr(out, "auto")); free(out);
-    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/opt.pvs --points 8 --rays 512", &out) == 0 && strstr(out, "misses 0")); free(out);
+    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/opt.pvs --points 8 --rays 512 --aim 8", &out) == 0 && strstr(out, "misses 0")); free(out);
     /* the default is auto; preview runs one method and is still conservative */
     CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells " EDIR "/in.txt -o " EDIR "/pre.pvs -j 2 --preview", &out) == 0);
     CHECK(strstr(out, "method auto") && strstr(out, "preview runs only"));
     free(out);
-    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/pre.pvs --points 8 --rays 512", &out) == 0 && strstr(out, "misses 0")); free(out);
+    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/pre.pvs --points 8 --rays 512 --aim 8", &out) == 0 && strstr(out, "misses 0")); free(out);
     /* max distance: pvscheck counts only objects within the distance */
     CHECK(ex_run("./pvsbake -q " EDIR "/in.obj --cells " EDIR "/in.txt -o " EDIR "/far.pvs -j 2 --method otree --max-distance 15", &out) == 0);
     free(out);
-    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/far.pvs --points 8 --rays 512 --max-distance 15", &out) == 0 && strstr(out, "misses 0"));
+    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/far.pvs --points 8 --rays 512 --aim 8 --max-distance 15", &out) == 0 && strstr(out, "misses 0"));
     free(out);
-    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/far.pvs --points 8 --rays 512", &out) == 3); free(out);
+    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/far.pvs --points 8 --rays 512 --aim 8", &out) == 3); free(out);
 }
 
 /* ---- pvsview and the runtime example ---- */
