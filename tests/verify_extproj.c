@@ -1,5 +1,5 @@
 /* verify_extproj.c - the long extended-projection checks of tests/test_extproj.c (make verify): the
-   occlusion sweep with sub-cells and adaptive cells against ray sampling. Exit 0 when all pass. */
+   occlusion sweep with sub-cells and adaptive cells, and on more cells of three scenes, against ray sampling. Exit 0 when all pass. */
 #include "test.h"
 
 int test_failures, test_checks;
