@@ -325,7 +325,24 @@ void test_cli(void) {
         CHECK(run("./pvsbake " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/x.pvs --shard 4/3", &out) == 2); free(out);
         CHECK(run("./pvsbake " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/x.pvs --shard 31/31", &out) == 1 && strstr(out, "only 30 cells")); free(out);
         CHECK(run("./pvsbake merge " DIR "/part1.pvs", &out) == 2); free(out);
-        CHECK(run("./pvsinfo " DIR "/whole.pvs", &out) == 0 && strstr(out, "key cells") && strstr(out, "chain mean")); free(out);
+        CHECK(run("./pvsinfo " DIR "/whole.pvs", &out) == 0 && strstr(out, "key cells") && strstr(out, "chain mean"));
+        { /* the sections' sizes: the file's header, table, sections and padding (< 8 bytes after each) */
+            const char *at = strstr(out, "sections    META ");
+            size_t fsize = 0, sum = 0, count = 0;
+            char *whole = test_slurp(DIR "/whole.pvs", &fsize);
+            CHECK(at && strstr(at, ", CELL ") && strstr(at, ", RECS ") && whole);
+            for (at = at ? at + 12 : NULL; at && *at != '(';) {
+                char tag[5];
+                unsigned long sz;
+                int used = 0;
+                if (sscanf(at, " %4s %lu%n", tag, &sz, &used) != 2) break;
+                sum += sz, ++count, at += used;
+                if (*at == ',') ++at;
+            }
+            CHECK(count >= 5 && sum + 32 + 16 * count <= fsize && sum + 32 + 16 * count + 8 * count > fsize);
+            free(whole);
+        }
+        free(out);
     }
     /* --dump: exactly "CELL: OBJ OBJ ..." per cell; the wall hides the far box; occluders never listed */
     CHECK(run("./pvsinfo --dump " DIR "/a.pvs", &out) == 0);

@@ -4,7 +4,7 @@
 #include <string.h>
 
 static const char *usage =
-    "usage: pvsinfo OUT.pvs              summary: counts, sizes, bytes per cell, method, eps\n"
+    "usage: pvsinfo OUT.pvs              summary: counts, sizes, bytes per cell and per section, method, eps\n"
     "       pvsinfo --dump OUT.pvs       one line per cell: \"CELL: OBJ OBJ ...\" (ids ascending)\n"
     "       pvsinfo --at X Y Z OUT.pvs   the cell containing the point and its PVS, same format\n"
     "       pvsinfo --verify OUT.pvs     full validation: exit 0 if sound, 1 with the reason\n"
@@ -169,8 +169,20 @@ static void print_records(const pvs_file *f) {
     }
 }
 
-/* No option: counts, sizes, PVS sizes, then the records. */
-static void print_summary(const char *path, const pvs_file *f, size_t size, pvs_word *bits, size_t words) {
+/* The sections' sizes from the file's table (README, "The file": a 32-byte header, then per section its tag,
+   offset, size and CRC as little-endian 32-bit words), in table order; pvs_file_open validated it. */
+static void print_sections(const uint8_t *data) {
+    uint32_t n = data[12] | (uint32_t)data[13] << 8 | (uint32_t)data[14] << 16 | (uint32_t)data[15] << 24, k;
+    printf("sections   ");
+    for (k = 0; k < n; ++k) {
+        const uint8_t *e = data + 32 + 16 * (size_t)k;
+        printf("%s %.4s %u", k ? "," : "", (const char *)e, e[8] | (uint32_t)e[9] << 8 | (uint32_t)e[10] << 16 | (uint32_t)e[11] << 24);
+    }
+    printf(" (bytes)\n");
+}
+
+/* No option: counts, sizes, PVS sizes, the sections, then the records. */
+static void print_summary(const char *path, const pvs_file *f, const uint8_t *data, size_t size, pvs_word *bits, size_t words) {
     uint32_t c, minp = 0xffffffffu, maxp = 0;
     double sum = 0.0;
     for (c = 0; c < f->cell_count; ++c) {
@@ -195,6 +207,7 @@ static void print_summary(const char *path, const pvs_file *f, size_t size, pvs_
     printf("pvs size    mean %.1f (%.1f%%), min %u, max %u\n", sum / f->cell_count, 100.0 * sum / f->cell_count / f->object_count, minp, maxp);
     printf("bytes       %zu (%.1f per cell; raw bitsets would be %zu)\n", size, (double)size / f->cell_count,
            (size_t)f->cell_count * ((f->object_count + 7) / 8));
+    print_sections(data);
     print_records(f);
 }
 
@@ -253,7 +266,7 @@ int main(int argc, char **argv) {
             print_cell(&f, c, bits, words);
         }
     } else {
-        print_summary(o.path, &f, size, bits, words);
+        print_summary(o.path, &f, data, size, bits, words);
     }
     free(bits);
     free(data);
