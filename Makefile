@@ -12,8 +12,8 @@ CFLAGS_scalar   := -O2 -g -DPVS_NO_SIMD
 CFLAGS  := -std=c99 $(WARN) $(CFLAGS_$(CONFIG))
 LDLIBS  := -lm -lpthread
 # the tests: AddressSanitizer and UndefinedBehaviorSanitizer, less its pointer-overflow check (pointer
-# arithmetic wrapping the address space; ASan checks every access itself), which doubles the build of the
-# implementation and slows the tests by a fifth. make CONFIG=sanitize builds the tools with all of it.
+# arithmetic wrapping the address space; ASan checks every access itself), which makes the implementation's
+# build and the tests' run about a third longer. make CONFIG=sanitize builds the tools with all of it.
 TEST_CFLAGS := -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize=pointer-overflow -fno-sanitize-recover=all
 
 TOOL_LIB := tools/mesh.c tools/bsp.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tools/pvs_impl.c

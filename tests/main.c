@@ -41,7 +41,7 @@ static const struct {
     {"core", test_core, 1},         {"format", test_format, 17},     {"noalloc", test_noalloc, 1},
     {"kdtree", test_kdtree, 12},    {"gen", test_gen, 1},           {"tools", test_tools, 1},      {"bsp", test_bsp, 1},      {"portal", test_portal, 6},
     {"cli", test_cli, 11},           {"raster", test_raster, 7},     {"otree", test_otree, 16},
-    {"extproj", test_extproj, 40},  {"shrink", test_shrink, 19},    {"auto", test_auto, 49},
+    {"extproj", test_extproj, 40},  {"shrink", test_shrink, 19},    {"auto", test_auto, 38},
     {"examples", test_examples, 20}, {"vocc", test_vocc, 11},        {"bounded", test_bounded, 1},
     {"seethrough", test_seethrough, 12},     {"walkable", test_walkable, 1},
 };
