@@ -512,7 +512,7 @@ static void check_sample_policy(void) {
             mesh_cells sub = cells;
             pvs_bake *b;
             double kept = 0.0, gain = 0.0;
-            sub.boxes = (float *)malloc(6 * sizeof(float) * (cells.count + 3) / 4);
+            sub.boxes = (float *)malloc(6 * sizeof(float) * ((cells.count + 3) / 4));
             for (sub.count = 0; sub.boxes && 4 * sub.count < cells.count; ++sub.count)
                 memcpy(sub.boxes + 6 * sub.count, cells.boxes + 6 * 4 * sub.count, 6 * sizeof(float));
             b = sub.boxes ? bake_with(s, &sub, mi.method, 0, 0, 0.0f) : NULL;

@@ -37,15 +37,12 @@ typedef struct bsp_reader {
     uint8_t *in_world;       /* per leaf: reached from node 0, the world's tree (all when there are no nodes) */
 } bsp_reader;
 
-static uint32_t rd_u32(const uint8_t *p) {
-    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
-}
 static int32_t rd_i32(const uint8_t *p) {
-    uint32_t u = rd_u32(p);
+    uint32_t u = tool_get32(p);
     return u <= 0x7fffffffu ? (int32_t)u : -(int32_t)(~u) - 1;
 }
 static float rd_f32(const uint8_t *p) {
-    uint32_t u = rd_u32(p);
+    uint32_t u = tool_get32(p);
     float f;
     memcpy(&f, &u, 4);
     return f;
@@ -77,12 +74,12 @@ static int read_header(bsp_reader *r, const uint8_t *d, size_t size) {
         tool_error_set(r->err, r->path, 0, "not a Quake 3 BSP file (magic \"%.4s\", expected \"IBSP\")", (const char *)d);
         return -1;
     }
-    if (rd_u32(d + 4) != 46) {
-        tool_error_set(r->err, r->path, 0, "BSP version %u: only version 46 (Quake III Arena) is read", rd_u32(d + 4));
+    if (tool_get32(d + 4) != 46) {
+        tool_error_set(r->err, r->path, 0, "BSP version %u: only version 46 (Quake III Arena) is read", tool_get32(d + 4));
         return -1;
     }
     for (int i = 0; i < L_COUNT; ++i) {
-        uint32_t off = rd_u32(d + 8 + 8 * i), len = rd_u32(d + 12 + 8 * i);
+        uint32_t off = tool_get32(d + 8 + 8 * i), len = tool_get32(d + 12 + 8 * i);
         if ((uint64_t)off + len > size) {
             tool_error_set(r->err, r->path, 0, "lump %d (%s): bytes %u+%u past the end of the file (%zu bytes)", i,
                            lump_names[i], off, len, size);
@@ -223,7 +220,7 @@ static int read_surfaces(const bsp_reader *r, uint32_t level, mesh *m, bsp_stats
         int32_t shader = rd_i32(f), type = rd_i32(f + 8);
         if (check_index(r, L_SURFACES, s, "shader", shader, r->l[L_SHADERS].count)) return -1;
         const uint8_t *sh = rec(r, L_SHADERS, (uint32_t)shader);
-        uint32_t surface_flags = rd_u32(sh + 64), contents = rd_u32(sh + 68);
+        uint32_t surface_flags = tool_get32(sh + 64), contents = tool_get32(sh + 68);
         /* a see-through shader (water, fog, glass, grates) names its surface see_through...: drawn, never
            blocking sight, in the mesh and in the OBJ written from it */
         int clear = (contents & CONTENTS_SEE_THROUGH) != 0;
@@ -320,12 +317,12 @@ static int read_plane(const bsp_reader *r, uint32_t side, double n[3], double *d
 static int brush_blocks(const bsp_reader *r, uint32_t b, int32_t fs, int32_t ns) {
     int32_t shader = rd_i32(rec(r, L_BRUSHES, b) + 8);
     if (check_index(r, L_BRUSHES, b, "shader", shader, r->l[L_SHADERS].count)) return -1;
-    uint32_t contents = rd_u32(rec(r, L_SHADERS, (uint32_t)shader) + 68);
+    uint32_t contents = tool_get32(rec(r, L_SHADERS, (uint32_t)shader) + 68);
     if (!(contents & CONTENTS_SOLID) || (contents & CONTENTS_SEE_THROUGH)) return 0;
     for (int32_t i = 0; i < ns; ++i) {
         int32_t ss = rd_i32(rec(r, L_BRUSHSIDES, (uint32_t)(fs + i)) + 4);
         if (check_index(r, L_BRUSHSIDES, (uint32_t)(fs + i), "shader", ss, r->l[L_SHADERS].count)) return -1;
-        if (rd_u32(rec(r, L_SHADERS, (uint32_t)ss) + 68) & CONTENTS_SEE_THROUGH) return 0;
+        if (tool_get32(rec(r, L_SHADERS, (uint32_t)ss) + 68) & CONTENTS_SEE_THROUGH) return 0;
     }
     return 1;
 }
@@ -579,7 +576,7 @@ static int read_vis(const bsp_reader *r, const uint8_t **vis, uint32_t *clusters
         tool_error_set(err, r->path, 0, "lump 16 (visibility): %u bytes, shorter than its 8-byte header", len);
         return -1;
     }
-    uint32_t n = rd_u32(r->l[L_VISIBILITY].p), b = rd_u32(r->l[L_VISIBILITY].p + 4);
+    uint32_t n = tool_get32(r->l[L_VISIBILITY].p), b = tool_get32(r->l[L_VISIBILITY].p + 4);
     if (b < (n + 7) / 8 || (uint64_t)n * b > len - 8) {
         tool_error_set(err, r->path, 0, "lump 16 (visibility): %u clusters of %u bytes do not fit in %u bytes", n, b, len);
         return -1;

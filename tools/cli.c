@@ -748,8 +748,7 @@ uint64_t cli_fingerprint(uint64_t h, const void *data, size_t size) {
 
 static void cli__put32(unsigned char *p, uint32_t v) { p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8); p[2] = (unsigned char)(v >> 16); p[3] = (unsigned char)(v >> 24); }
 static void cli__put64(unsigned char *p, uint64_t v) { cli__put32(p, (uint32_t)v); cli__put32(p + 4, (uint32_t)(v >> 32)); }
-static uint32_t cli__get32(const unsigned char *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
-static uint64_t cli__get64(const unsigned char *p) { return (uint64_t)cli__get32(p) | (uint64_t)cli__get32(p + 4) << 32; }
+static uint64_t cli__get64(const unsigned char *p) { return (uint64_t)tool_get32(p) | (uint64_t)tool_get32(p + 4) << 32; }
 
 /* The largest payload of `objects` bits: the raw form. */
 static size_t cli__payload_max(uint32_t objects) { return 1 + ((size_t)objects + 7) / 8; }
@@ -914,8 +913,8 @@ static int cli__journal_read(pvs_bake *bake, uint32_t objects, const char *path,
     FILE *f = fopen(path, "rb");
     int restored = -1;
     if (!f || !rec || !bits || fread(head, 1, sizeof(head), f) != sizeof(head) || memcmp(head, "PVSSTATE", 8) ||
-        cli__get32(head + 8) != CLI__STATE_VERSION || cli__get32(head + 12) != tasks || cli__get32(head + 16) != objects ||
-        cli__get64(head + 20) != fp || cli__get32(head + 28) != tool_crc32(0, head, 28))
+        tool_get32(head + 8) != CLI__STATE_VERSION || tool_get32(head + 12) != tasks || tool_get32(head + 16) != objects ||
+        cli__get64(head + 20) != fp || tool_get32(head + 28) != tool_crc32(0, head, 28))
         goto done;
     restored = 0;
     for (;;) {
@@ -925,10 +924,10 @@ static int cli__journal_read(pvs_bake *bake, uint32_t objects, const char *path,
             *torn |= got != 0;
             break;
         }
-        t = cli__get32(rec);
-        p = cli__get32(rec + 4);
+        t = tool_get32(rec);
+        p = tool_get32(rec + 4);
         if (t >= tasks || p < 1 || p > max || fread(rec + 8, 1, (size_t)p + 4, f) != (size_t)p + 4 ||
-            cli__get32(rec + 8 + p) != tool_crc32(0, rec, 8 + (size_t)p) || cli__pvs_decode(rec + 8, p, objects, bits)) {
+            tool_get32(rec + 8 + p) != tool_crc32(0, rec, 8 + (size_t)p) || cli__pvs_decode(rec + 8, p, objects, bits)) {
             *torn = 1; /* a torn or damaged tail */
             break;
         }

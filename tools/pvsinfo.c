@@ -172,11 +172,11 @@ static void print_records(const pvs_file *f) {
 /* The sections' sizes from the file's table (README, "The file": a 32-byte header, then per section its tag,
    offset, size and CRC as little-endian 32-bit words), in table order; pvs_file_open validated it. */
 static void print_sections(const uint8_t *data) {
-    uint32_t n = data[12] | (uint32_t)data[13] << 8 | (uint32_t)data[14] << 16 | (uint32_t)data[15] << 24, k;
+    uint32_t n = tool_get32(data + 12), k;
     printf("sections   ");
     for (k = 0; k < n; ++k) {
         const uint8_t *e = data + 32 + 16 * (size_t)k;
-        printf("%s %.4s %u", k ? "," : "", (const char *)e, e[8] | (uint32_t)e[9] << 8 | (uint32_t)e[10] << 16 | (uint32_t)e[11] << 24);
+        printf("%s %.4s %u", k ? "," : "", (const char *)e, tool_get32(e + 8));
     }
     printf(" (bytes)\n");
 }

@@ -441,6 +441,11 @@ int tool_usage_error(const char *tool, const char *fmt, ...) {
 
 /* ---- PNG ------------------------------------------------------------------------------------- */
 
+uint32_t tool_get32(const void *p) {
+    const uint8_t *b = (const uint8_t *)p;
+    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+
 uint32_t tool_crc32(uint32_t crc, const void *data, size_t size) {
     const uint8_t *p = (const uint8_t *)data;
     crc = ~crc;

@@ -124,6 +124,8 @@ int png_write(const char *path, const uint8_t *rgba, uint32_t w, uint32_t h, too
    deflate blocks and filter 0 (so the pixels appear verbatim). Returns 0 or -1 (zero or too large
    size, out of memory). */
 int png_encode(const uint8_t *rgba, uint32_t w, uint32_t h, int stored, uint8_t **png, size_t *size);
+/* The little-endian 32-bit word at p (the .pvs, BSP and bake-state files). */
+uint32_t tool_get32(const void *p);
 /* CRC-32 (PNG / zlib polynomial) and Adler-32, exposed for tests. Start with crc = 0 / adler = 1. */
 uint32_t tool_crc32(uint32_t crc, const void *data, size_t size);
 uint32_t tool_adler32(uint32_t adler, const void *data, size_t size);
