@@ -2124,6 +2124,14 @@ static void test_portal_kernels(void) {
                 mismatch, wrong, missed, found, boxes);
 }
 
+/* The occlusion sweep on three scenes against ray sampling: 16, 16 and 5 cells in make verify (full), about half
+   as many in make test. */
+static void ep_check_sweeps(int full) {
+    ep_check_scene(GEN_WALLS, 0, 3, 0.3f, full ? 16 : 8, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
+    ep_check_scene(GEN_INDOOR, 0, 2, 0.3f, full ? 16 : 8, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
+    ep_check_scene(GEN_FOREST, 0, 2, 0.25f, full ? 5 : 3, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
+}
+
 /* The longest scene checks (about 20 s of make test under the sanitizer): make verify runs them
    (tests/verify_extproj.c). */
 void extproj_verify(void);
@@ -2131,10 +2139,7 @@ void test_extproj(void);
 void extproj_verify(void) {
     test_sweep_subcells();
     test_adaptive();
-    /* the sweep on more cells than make test's */
-    ep_check_scene(GEN_WALLS, 0, 3, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
-    ep_check_scene(GEN_INDOOR, 0, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
-    ep_check_scene(GEN_FOREST, 0, 2, 0.25f, 5, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
+    ep_check_sweeps(1);
 }
 
 void test_extproj(void) {
@@ -2159,10 +2164,8 @@ void test_extproj(void) {
     test_sweep_parts();
     ep_check_scene(GEN_CITY, 0, 1, 0.3f, 24, 16, 1024, 0, 0);
     ep_check_scene(GEN_WALLS, 0, 2, 0.4f, 30, 16, 1024, 0, 0);
-    ep_check_scene(GEN_WALLS, 0, 3, 0.3f, 8, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0); /* verify: 16 */
     ep_check_scene(GEN_INDOOR, 0, 1, 0.3f, 30, 16, 1024, 0, 0);
-    ep_check_scene(GEN_INDOOR, 0, 2, 0.3f, 8, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0); /* verify: 16 */
     ep_check_scene(GEN_FOREST, 0, 1, 0.25f, 20, 16, 1024, 0, 0);
-    ep_check_scene(GEN_FOREST, 0, 2, 0.25f, 3, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0); /* verify: 5 */
     ep_check_scene(GEN_SOUP, 0, 3, 0.3f, 20, 16, 1024, 0, 0);
+    ep_check_sweeps(0);
 }

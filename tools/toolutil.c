@@ -35,6 +35,11 @@ void tool_error_set(tool_error *err, const char *path, int line, const char *fmt
 
 /* ---- files ----------------------------------------------------------------------------------- */
 
+uint32_t tool_get32(const void *p) {
+    const uint8_t *b = (const uint8_t *)p;
+    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+
 int read_file(const char *path, void **data, size_t *size, tool_error *err) {
     *data = NULL;
     *size = 0;
@@ -440,11 +445,6 @@ int tool_usage_error(const char *tool, const char *fmt, ...) {
 }
 
 /* ---- PNG ------------------------------------------------------------------------------------- */
-
-uint32_t tool_get32(const void *p) {
-    const uint8_t *b = (const uint8_t *)p;
-    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-}
 
 uint32_t tool_crc32(uint32_t crc, const void *data, size_t size) {
     const uint8_t *p = (const uint8_t *)data;

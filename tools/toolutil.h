@@ -38,6 +38,8 @@ void tool_error_set(tool_error *err, const char *path, int line, const char *fmt
    one extra NUL byte at data[size] (not counted in size), so text parsers may rely on it. Works on
    pipes too. Errors: "PATH: cannot open: <reason>", "PATH: cannot read: <reason>", out of memory. */
 int read_file(const char *path, void **data, size_t *size, tool_error *err);
+/* The little-endian 32-bit word at p (the .pvs, BSP and bake-state files). */
+uint32_t tool_get32(const void *p);
 
 /* Writes data to PATH.tmp.PID, fsyncs it, then renames it over path, so readers see either the old
    file or the complete new one. On any failure the temporary file is removed and path is untouched.
@@ -124,8 +126,6 @@ int png_write(const char *path, const uint8_t *rgba, uint32_t w, uint32_t h, too
    deflate blocks and filter 0 (so the pixels appear verbatim). Returns 0 or -1 (zero or too large
    size, out of memory). */
 int png_encode(const uint8_t *rgba, uint32_t w, uint32_t h, int stored, uint8_t **png, size_t *size);
-/* The little-endian 32-bit word at p (the .pvs, BSP and bake-state files). */
-uint32_t tool_get32(const void *p);
 /* CRC-32 (PNG / zlib polynomial) and Adler-32, exposed for tests. Start with crc = 0 / adler = 1. */
 uint32_t tool_crc32(uint32_t crc, const void *data, size_t size);
 uint32_t tool_adler32(uint32_t adler, const void *data, size_t size);
