@@ -1,4 +1,4 @@
-/* pvs.h - v0.11.4 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.11.5 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -156,7 +156,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 11
-#define PVS_VERSION_PATCH 4
+#define PVS_VERSION_PATCH 5
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -4068,7 +4068,7 @@ PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t 
 /* Merges coverage T (as near as zt > z0) into a tile, Hasselgren et al.'s two-layer update: T covering tile becomes
    base; else layer takes union at farther depth, or T if T leads it by more than it leads base; a full layer becomes
    base. Every pixel stays a lower bound of its nearest occluder. Off map: rows whose bit is set in `rows`, bits
-   `xpad` (no padding array: its narrow stores stalled the wide loads after them, 6% of a frame). */
+   `xpad` (an array's narrow stores stalled the wide loads: tests/BENCHMARKS.md, raster). */
 PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, uint32_t rows, uint32_t xpad) {
 	uint32_t full = ~0u, any = 0, m;
 	int k;
@@ -15416,7 +15416,7 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 #define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* fragment faces: solid's, 1 per split */
 #define PVS__PO_CANDIDATES 48u /* split planes scored per node */
 #define PVS__PO_GROWS 12u /* region growths before whole portal */
-#define PVS__PO_SRCS 64u /* clipped cell boxes kept per cell (kaos2: 3,659 clips by 123 planes in a cell) */
+#define PVS__PO_SRCS 64u /* clipped cell boxes kept per cell */
 #define PVS__PO_NORMAL_EPS 1e-6
 #define PVS__PO_DIST_EPS 1e-7 /* x scene size */
 #define PVS__PO_LEAF 0x80000000u /* child id bit: leaf */
@@ -15444,6 +15444,7 @@ typedef struct pvs__po_portal {
 	uint32_t from, to; /* empty leaves */
 	uint32_t plane; /* face's table plane, outward from `from` */
 	uint32_t first, n; /* vertices in portal_v */
+	double b[6]; /* box: centre, half sizes */
 } pvs__po_portal;
 
 typedef struct pvs__poprep {
@@ -15610,6 +15611,13 @@ PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
 	w->n = t.n;
 	memcpy(w->p, t.p, t.n * sizeof(t.p[0])); /* not whole struct: flow clips often */
 	return lost;
+}
+
+/* pvs__po_clip's answer for a polygon in box b (centre, half sizes) clear of pl by 2 eps (past rounding): 0 beyond
+   (empties it), 1 behind (leaves it); -1: clip. */
+PVS__STATIC int pvs__po_box_clip(const double *b, const double *pl, double eps) {
+	double t = pvs__po_dist(pl, b), e = fabs(pl[0]) * b[3] + fabs(pl[1]) * b[4] + fabs(pl[2]) * b[5] + 2.0 * eps;
+	return t > e ? 0 : t < -e ? 1 : -1;
 }
 
 /* Base square of table plane id clipped by planes[0..count) (pair `skip` left out); p->lost set if vertices lost. */
@@ -16048,6 +16056,7 @@ PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to
 	pvs__poprep *p = b->p;
 	const pvs_allocator *al = &p->allocator;
 	pvs__po_portal *q;
+	uint32_t i;
 	if (!pvs__grow(al, (void **)&p->portals, &p->portal_cap, p->portal_count + 1, sizeof(pvs__po_portal)) ||
 		!pvs__grow(al, (void **)&p->portal_v, &p->portal_v_cap, p->portal_v_count + w->n, sizeof(p->portal_v[0]))) {
 		b->oom = 1;
@@ -16061,6 +16070,11 @@ PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to
 	q->n = w->n;
 	memcpy(p->portal_v[q->first], w->p, w->n * sizeof(w->p[0]));
 	p->portal_v_count += w->n;
+	for (i = 0; i < 3 * w->n; ++i) {
+		double *o = q->b + i % 3, x = w->p[i / 3][i % 3];
+		o[0] = i < 3 ? x : pvs__dmin(o[0], x), o[3] = i < 3 ? x : pvs__dmax(o[3], x);
+	}
+	for (i = 0; i < 3; ++i) q->b[i + 3] -= q->b[i] = 0.5 * (q->b[i] + q->b[i + 3]);
 }
 
 /* Face w of leaf `from` on table plane `plane` (outward) pushed down from `node`: portal into every empty leaf a part
@@ -16243,6 +16257,10 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 	sg = hi > eps * len ? 1.0 : -1.0; /* kept side, as table planes: sg (n.x + d) <= 0 */
 	for (i = 0; i < nb; ++i)
 		if (sg * (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d) > eps) return 0;
+	for (i = 0; i < w->np; ++i) /* found before (an edge of each set on it): once */
+		if (fabs(w->pl[i][3] + sg * d) <= eps &&
+			fabs(w->pl[i][0] - sg * n[0]) + fabs(w->pl[i][1] - sg * n[1]) + fabs(w->pl[i][2] - sg * n[2]) <= 1e-9)
+			return 1;
 	if (w->np < PVS__PO_MAXS) {
 		PVS__FOR3(k) w->pl[w->np][k] = sg * n[k];
 		w->pl[w->np++][3] = -sg * d;
@@ -16263,9 +16281,8 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 				break;
 	for (i = 0; i < c->ne; ++i)
 		for (j = 0; j < w->nv; ++j) {
-			/* a plane through a convex set's edge and x leaves the set on one side only if x is in front of one of the
-			   edge's faces and behind the other (a silhouette edge from x): skipped when beyond tol in front of both
-			   or behind both */
+			/* a plane through an edge of convex c and x leaves c on one side only if x is in front of one of the
+			   edge's faces and behind the other (a silhouette from x): skipped if beyond tol before or behind both */
 			if (c->faces && c->ef[i][0] < 7 && c->ef[i][1] < 7) {
 				double s0 = pvs__po_dist(c->fp[c->ef[i][0]], w->v[j]), s1 = pvs__po_dist(c->fp[c->ef[i][1]], w->v[j]);
 				if ((s0 > tol && s1 > tol) || (s0 < -tol && s1 < -tol)) continue;
@@ -16471,9 +16488,9 @@ PVS__STATIC int pvs__po_grow(pvs__po_flow *f, uint32_t id, const pvs__po_wind *w
 	return 1;
 }
 
-/* Queue key of a step into portal q: least squared distance of its vertices from the cell box, as float bits (order
-   kept: >= 0). Along a line from the cell the distance never falls, so nearest first takes most steps after those into
-   them: fewer regions grow after their step (and past PVS__PO_GROWS); the fixed point is the same up to that cap. */
+/* Queue key of a step into portal q: least squared distance of its vertices from the cell box, as float bits (>= 0:
+   order kept). It never falls along a line from the cell: nearest first runs most steps after those feeding them (fewer
+   growths; the fixed point is the same up to PVS__PO_GROWS). */
 PVS__STATIC uint32_t pvs__po_key(const pvs__po_flow *f, uint32_t q) {
 	const pvs__po_portal *pt = f->p->portals + q;
 	double best = DBL_MAX;
@@ -16580,7 +16597,7 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t from, u
    sends lines from q's source via v into leaf `to`: keeps its objects, offers portals out (clipped) as q -> next. */
 PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
-	uint32_t i, j;
+	uint32_t i, j, c;
 	pvs__po_win win;
 	pvs__po_wind w;
 	pvs__po_set set;
@@ -16624,9 +16641,16 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 				f->cut = 1;
 				break;
 			}
-			w.n = p2->n;
-			memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
-			for (k = 0; k < win.np && w.n >= 3; ++k) f->cut |= pvs__po_clip(&w, win.pl[k], p->tol);
+			for (w.n = p2->n, c = k = 0; k < win.np && w.n >= 3; ++k) { /* copied when a plane may cut it */
+				int side = pvs__po_box_clip(p2->b, win.pl[k], p->tol);
+				if (side >= 0) {
+					w.n = side ? w.n : 0;
+					continue;
+				}
+				if (!c++) memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
+				f->cut |= pvs__po_clip(&w, win.pl[k], p->tol);
+			}
+			if (w.n >= 3 && !c) memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
 			if (w.n < 3 && k > 1) { /* the plane that emptied it first for the next portal (the same halfspaces) */
 				double t4[4];
 				memcpy(t4, win.pl[k - 1], sizeof(t4));
@@ -24309,21 +24333,17 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
+   0.11.5 (2026-11-30) PORTAL: a plane found twice kept once; a portal's box tested against a plane first: -11%.
    0.11.4 (2026-11-29) PORTAL: planes through a source edge tried only from the edge's silhouette side: -6%.
-   0.11.3 (2026-11-29) PORTAL: steps queued nearest portal first, 12 growths: -15% steps, PVS -0.1 to -4%; a whole
-   box's side tests from its centre; the plane that empties a portal tried first; clipped cell boxes kept by plane.
+   0.11.3 (2026-11-29) PORTAL: nearest portal first, 12 growths (-15% steps, PVS -0.1 to -4%); clipped cell boxes kept.
    0.11.2 (2026-11-29) PORTAL: regions' vertices in a pool; no stalled store in pvs__po_try_plane: about -30%.
    0.11.1 (2026-11-29) raster: eight-lane AVX2 prefilter, no stalled stores in tile merging: a frame -15 to -20%.
    0.11.0 (2026-11-29) format 3: grid coordinate tables (16-bit steps), packed TREE offsets, no record depth; 2
    refused.
    0.10.0 (2026-11-29) format 2: records arithmetic-coded in context, objects reordered (MODL); 1 refused.
-   0.9.7 (2026-11-29) raster: AVX2 chosen at run time (GCC, Clang), PVS_RASTER_SSE2, pvs_raster_path; PORTAL -18%.
-   0.9.6 (2026-11-29) PORTAL 15-30% faster: each source edge once.
-   0.9.5 (2026-11-29) pvs_raster_mesh 5x faster: prefiltered pieces.
-   0.9.4 (2026-11-29) pvs_raster_bin, pvs_raster_draw_band: a frame on several threads.
-   0.9.3 (2026-11-29) pvs_raster_draw (vertex stride, back-face culling), pvs_raster_set_clip_matrix.
-   0.9.2 (2026-11-29) AUTO's sample bounded by rays; PORTAL's price, triangle tests; K = 16; pvs_raster_classify_box.
-   0.9.1 (2026-11-28) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row; PORTAL's pass planes.
+   0.9.1-7 (2026-11-28, 29) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row, pvs_raster_classify_box, pvs_raster_draw
+   (stride, back faces), pvs_raster_set_clip_matrix, pvs_raster_bin and _draw_band (threads), AVX2 at run time
+   (PVS_RASTER_SSE2, pvs_raster_path); K = 16; PORTAL's pass planes; PORTAL and pvs_raster_mesh faster.
    0.9.0 (2026-11-28) see-through objects, names, PVS_RUNTIME_ONLY, pvs_walkable_cells.
    0.8.0 (2026-11-28) pvs_scene_fingerprint.
    0.4.0-0.7.x (2026-11-28) AUTO and its prices, PORTAL, max_distance, PREVIEW, resuming, vocc, adaptive cells.

@@ -1918,11 +1918,12 @@ static void test_sweep_subcells(void) {
    a coarse grid so that ties and points on the plane occur; then separating planes (pvs__po_try_plane, first tested
    unnormalized): every plane it makes has the first set within eps on its side and the second on the other (checked
    in long double), and it finds the plane whenever both sets clear it by 4 eps; a box's corners as the first set give
-   the same answer as the box itself (centre and half sizes: the flow's whole-cell source); the flow's queue; and its
-   clipped cell boxes kept by plane. */
+   the same answer as the box itself (centre and half sizes: the flow's whole-cell source), and a plane found twice is
+   kept once; a polygon's box against a plane (pvs__po_box_clip) answers as pvs__po_clip does; the flow's queue; and
+   its clipped cell boxes kept by plane. */
 static void test_portal_kernels(void) {
     uint64_t st = 0x90a7a1ull; /* its own generator: the tests after it keep their sequences */
-    uint32_t t, mismatch = 0, wrong = 0, missed = 0, found = 0, boxes = 0;
+    uint32_t t, mismatch = 0, wrong = 0, missed = 0, found = 0, boxes = 0, box_answers = 0, twice = 0;
     for (t = 0; t < 5000; ++t) {
         double v[16][3], pl[4], box[6] = {DBL_MAX, DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX, -DBL_MAX};
         double eps = t % 3 == 0 ? 0.0 : t % 3 == 1 ? 1e-9 : 0.25;
@@ -1955,6 +1956,18 @@ static void test_portal_kernels(void) {
         a = w;
         CHECK(pvs__po_clip(&a, pl, eps) == pvs__po_split(&w, pl, eps, NULL, &b));
         mismatch += a.n != b.n || memcmp(a.p, b.p, a.n * sizeof(a.p[0])) != 0;
+        if (eps > 0.0) { /* pvs__po_box_clip from the points' box, for them and for a part cut by another plane */
+            double bc[6], pl2[4] = {0.6, -0.8, 0.0, 0.0};
+            int side;
+            for (k = 0; k < 3; ++k) bc[k] = 0.5 * (box[k] + box[k + 3]), bc[k + 3] = 0.5 * (box[k + 3] - box[k]);
+            pl2[3] = floor(test_rnd(&st) * 6.0) - 3.0;
+            if (t & 16) pvs__po_clip(&w, pl2, eps);
+            side = pvs__po_box_clip(bc, pl, eps);
+            a = w;
+            pvs__po_clip(&a, pl, eps);
+            box_answers += side >= 0 && w.n > 0;
+            mismatch += side == 0 ? a.n != 0 : side == 1 && (a.n != w.n || memcmp(a.p, w.p, a.n * sizeof(a.p[0])));
+        }
     }
     for (t = 0; t < 5000; ++t) { /* separating planes through (p0, p1, p2) between sets A and B; every other pair of
                                      rounds A is a box's corners, tried also as the box (centre, half sizes): the
@@ -1985,6 +1998,15 @@ static void test_portal_kernels(void) {
         win.np = 0;
         got = pvs__po_try_plane(&win, p[0], p[1], p[2], (const double(*)[3])A, na, (const double(*)[3])B, nb, eps,
                                 NULL);
+        if (got) { /* the plane found again (through its points in turn) is kept once; one eps x 10 away is another */
+            twice += pvs__po_try_plane(&win, p[1], p[2], p[0], (const double(*)[3])A, na, (const double(*)[3])B, nb, eps,
+                                       NULL);
+            mismatch += win.np != 1;
+            win2 = win;
+            win2.pl[0][3] += 10.0 * eps;
+            mismatch += pvs__po_try_plane(&win2, p[0], p[1], p[2], (const double(*)[3])A, na, (const double(*)[3])B,
+                                          nb, eps, NULL) != 1 || win2.np != 2;
+        }
         if (boxed) {
             win2.np = 0;
             boxes += pvs__po_try_plane(&win2, p[0], p[1], p[2], (const double(*)[3])A, na, (const double(*)[3])B, nb,
@@ -2119,9 +2141,10 @@ static void test_portal_kernels(void) {
     CHECK(missed == 0);
     CHECK(found > 25);
     CHECK(boxes > 10);
-    if (mismatch || wrong || missed || found <= 25 || boxes <= 10)
-        fprintf(stderr, "  portal kernels: %u mismatches, %u wrong planes, %u missed, %u found, %u by boxes\n",
-                mismatch, wrong, missed, found, boxes);
+    CHECK(box_answers > 500 && twice > 20);
+    if (mismatch || wrong || missed || found <= 25 || boxes <= 10 || box_answers <= 500 || twice <= 20)
+        fprintf(stderr, "  portal kernels: %u mismatches, %u wrong planes, %u missed, %u found, %u by boxes, %u box "
+                "answers, %u found twice\n", mismatch, wrong, missed, found, boxes, box_answers, twice);
 }
 
 /* The occlusion sweep on three scenes against ray sampling: 16, 16 and 5 cells in make verify (full), about half
