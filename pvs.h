@@ -145,7 +145,7 @@
    NAME. Readers skip unknown tags; pvs_file_open checks every rule in linear time. Version 1, 2 files: BAD_VERSION,
    re-bake.
 
-   HISTORY: at the end.
+   HISTORY: at the end (the latest; every release: README.md, "History").
 */
 // >>api
 #ifndef PVS_H
@@ -24331,23 +24331,10 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 #endif /* PVS_IMPLEMENTATION */
 
 /*
-   HISTORY
+   HISTORY (older releases: README.md, "History")
    =======
    0.11.5 (2026-11-30) PORTAL: a plane found twice kept once; a portal's box tested against a plane first: -11%.
    0.11.4 (2026-11-29) PORTAL: planes through a source edge tried only from the edge's silhouette side: -6%.
-   0.11.3 (2026-11-29) PORTAL: nearest portal first, 12 growths (-15% steps, PVS -0.1 to -4%); clipped cell boxes kept.
-   0.11.2 (2026-11-29) PORTAL: regions' vertices in a pool; no stalled store in pvs__po_try_plane: about -30%.
-   0.11.1 (2026-11-29) raster: eight-lane AVX2 prefilter, no stalled stores in tile merging: a frame -15 to -20%.
-   0.11.0 (2026-11-29) format 3: grid coordinate tables (16-bit steps), packed TREE offsets, no record depth; 2
-   refused.
-   0.10.0 (2026-11-29) format 2: records arithmetic-coded in context, objects reordered (MODL); 1 refused.
-   0.9.1-7 (2026-11-28, 29) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row, pvs_raster_classify_box, pvs_raster_draw
-   (stride, back faces), pvs_raster_set_clip_matrix, pvs_raster_bin and _draw_band (threads), AVX2 at run time
-   (PVS_RASTER_SSE2, pvs_raster_path); K = 16; PORTAL's pass planes; PORTAL and pvs_raster_mesh faster.
-   0.9.0 (2026-11-28) see-through objects, names, PVS_RUNTIME_ONLY, pvs_walkable_cells.
-   0.8.0 (2026-11-28) pvs_scene_fingerprint.
-   0.4.0-0.7.x (2026-11-28) AUTO and its prices, PORTAL, max_distance, PREVIEW, resuming, vocc, adaptive cells.
-   0.1.0-0.3.0 (2026-11-22) scene, kD-tree, bake tasks, format 1, rasterizer, cull maps, occlusion trees, shrink.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.
