@@ -1819,7 +1819,13 @@ PVS__STATIC int pvs__key_index_before(const void *pa, const void *pb) {
 	return a->key < b->key || (a->key == b->key && a->index < b->index);
 }
 PVS__STATIC void pvs__key_index_sort(pvs__key_index *o, uint32_t n) {
-	pvs__heap_sort(o, n, sizeof(*o), pvs__key_index_before);
+	uint32_t i, j;
+	if (n > 16) pvs__heap_sort(o, n, sizeof(*o), pvs__key_index_before);
+	for (i = 1; n <= 16 && i < n; ++i) { /* a few (the flow's hulls): insertion, the same total order */
+		pvs__key_index t = o[i];
+		for (j = i; j > 0 && pvs__key_index_before(&t, o + j - 1); --j) o[j] = o[j - 1];
+		o[j] = t;
+	}
 }
 
 /* ---- little-endian bytes: file format, VOCC section ---- */
@@ -24333,7 +24339,8 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.11.5 (2026-11-30) PORTAL: a plane found twice kept once; a portal's box tested against a plane first: -11%.
+   0.11.5 (2026-11-30) PORTAL: a plane found twice kept once; a portal's box tested against a plane first; few keys
+   sorted by insertion: -15%.
    0.11.4 (2026-11-29) PORTAL: planes through a source edge tried only from the edge's silhouette side: -6%.
 
 ------------------------------------------------------------------------------
