@@ -1820,8 +1820,11 @@ PVS__STATIC int pvs__key_index_before(const void *pa, const void *pb) {
 }
 PVS__STATIC void pvs__key_index_sort(pvs__key_index *o, uint32_t n) {
 	uint32_t i, j;
-	if (n > 16) pvs__heap_sort(o, n, sizeof(*o), pvs__key_index_before);
-	for (i = 1; n <= 16 && i < n; ++i) { /* a few (the flow's hulls): insertion, the same total order */
+	if (n > 16) {
+		pvs__heap_sort(o, n, sizeof(*o), pvs__key_index_before);
+		return;
+	}
+	for (i = 1; i < n; ++i) { /* a few (the flow's hulls): insertion, the same total order */
 		pvs__key_index t = o[i];
 		for (j = i; j > 0 && pvs__key_index_before(&t, o + j - 1); --j) o[j] = o[j - 1];
 		o[j] = t;
