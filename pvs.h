@@ -16261,18 +16261,18 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 		hi = t > hi ? t : hi;
 		if (lo < -eps * len && hi > eps * len) return 0;
 	}
-	PVS__FOR3(k) n[k] /= len;
+	sg = hi > eps * len ? 1.0 : -1.0; /* kept side, as table planes: sg (n.x + d) <= 0 (exact: sg is +-1) */
+	PVS__FOR3(k) n[k] = sg * (n[k] / len);
 	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
-	sg = hi > eps * len ? 1.0 : -1.0; /* kept side, as table planes: sg (n.x + d) <= 0 */
 	for (i = 0; i < nb; ++i)
-		if (sg * (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d) > eps) return 0;
+		if (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d > eps) return 0;
 	for (i = 0; i < w->np; ++i) /* found before (an edge of each set on it): once */
-		if (fabs(w->pl[i][3] + sg * d) <= eps &&
-			fabs(w->pl[i][0] - sg * n[0]) + fabs(w->pl[i][1] - sg * n[1]) + fabs(w->pl[i][2] - sg * n[2]) <= 1e-9)
+		if (fabs(w->pl[i][3] + d) <= eps &&
+			fabs(w->pl[i][0] - n[0]) + fabs(w->pl[i][1] - n[1]) + fabs(w->pl[i][2] - n[2]) <= 1e-9)
 			return 1;
 	if (w->np < PVS__PO_MAXS) {
-		PVS__FOR3(k) w->pl[w->np][k] = sg * n[k];
-		w->pl[w->np++][3] = -sg * d;
+		PVS__FOR3(k) w->pl[w->np][k] = n[k];
+		w->pl[w->np++][3] = -d;
 	}
 	return 1;
 }
