@@ -16379,16 +16379,35 @@ PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__
 	return c->n ? c : NULL;
 }
 
+/* 1 if object o has a triangle whose part in empty leaf `leaf` clipped by w's planes (w NULL: none) is not empty
+   (within tol; or vertices were lost), or no triangle. */
+PVS__STATIC int pvs__po_meets(const pvs__poprep *p, const pvs_scene *s, uint32_t leaf, uint32_t o,
+							  const pvs__po_win *w) {
+	const pvs__po_poly *lp = p->leaf + leaf;
+	const uint32_t *ot = s->object_triangles + 2 * (size_t)o;
+	uint32_t t, j, k;
+	int keep = !ot[1];
+	for (t = ot[0]; !keep && t < ot[0] + ot[1]; ++t) {
+		const uint32_t *c = s->indices + 3 * (size_t)t;
+		pvs__po_wind tw;
+		int lost = 0;
+		tw.n = 3;
+		for (k = 0; k < 9; ++k) tw.p[k / 3][k % 3] = s->positions[3 * (size_t)c[k / 3] + k % 3];
+		for (k = 0; k < lp->face_count && tw.n; ++k) lost |= pvs__po_clip(&tw, p->pl[lp->plane[k]], p->tol);
+		for (j = 0; w && j < w->np && tw.n; ++j) lost |= pvs__po_clip(&tw, w->pl[j], p->tol);
+		keep = tw.n > 0 || lost;
+	}
+	return keep;
+}
+
 /* Keeps objects of empty leaf `leaf` with part in it not beyond w's planes (w NULL: all): box clipped to leaf's not
-   wholly beyond one, then triangle clipped to leaf and by every plane not empty (within tol). */
+   wholly beyond one, then pvs__po_meets. */
 PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win *w) {
 	const pvs__poprep *p = f->p;
-	const pvs_scene *s = f->scene;
-	const pvs__po_poly *lp = p->leaf + leaf;
 	uint32_t i, j, k;
 	for (i = p->lo_first[leaf]; i < p->lo_first[leaf + 1]; ++i) {
-		uint32_t o = p->lo[i], *ot = s->object_triangles + 2 * (size_t)o, t = ot[0];
-		pvs_box b = s->object_boxes[o];
+		uint32_t o = p->lo[i];
+		pvs_box b = f->scene->object_boxes[o];
 		int keep = 1;
 		if (pvs_bitset_test(f->bits, o)) continue;
 		if (w && pvs__box_clip(&b, p->leaf_box + leaf))
@@ -16397,18 +16416,7 @@ PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win 
 				PVS__FOR3(k) x[k] = w->pl[j][k] > 0.0 ? b.min[k] : b.max[k];
 				keep = pvs__po_dist(w->pl[j], x) <= p->tol;
 			}
-		if (!keep) continue;
-		for (keep = !ot[1]; !keep && t < ot[0] + ot[1]; ++t) {
-			const uint32_t *c = s->indices + 3 * (size_t)t;
-			pvs__po_wind tw;
-			int lost = 0;
-			tw.n = 3;
-			for (k = 0; k < 9; ++k) tw.p[k / 3][k % 3] = s->positions[3 * (size_t)c[k / 3] + k % 3];
-			for (k = 0; k < lp->face_count && tw.n; ++k) lost |= pvs__po_clip(&tw, p->pl[lp->plane[k]], p->tol);
-			for (j = 0; w && j < w->np && tw.n; ++j) lost |= pvs__po_clip(&tw, w->pl[j], p->tol);
-			keep = tw.n > 0 || lost;
-		}
-		if (keep) pvs_bitset_set(f->bits, o);
+		if (keep && pvs__po_meets(p, f->scene, leaf, o, w)) pvs_bitset_set(f->bits, o);
 	}
 }
 
@@ -16843,6 +16851,12 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 		if (!(s->object_flags[ob.o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + ob.o))
 			pvs__po_box_down(p, s->object_boxes + ob.o, p->root, pvs__po_object_leaf, &ob);
 	ok = !b.oom && pvs__po_csr(al, p->lo_pairs, p->lo_count, (uint32_t)p->leaf_count, &p->lo_first, &p->lo);
+	for (k = 0, i = 0; ok && i < p->leaf_count; ++i) { /* objects with no part in a leaf: never kept there, dropped */
+		uint32_t e = p->lo_first[i + 1], j = p->lo_first[i];
+		for (p->lo_first[i] = k; j < e; ++j)
+			if (pvs__po_meets(p, s, (uint32_t)i, p->lo[j], NULL)) p->lo[k++] = p->lo[j];
+	}
+	if (ok) p->lo_first[p->leaf_count] = k;
 done:
 	PVS__FREE_N(al, pairs, 2 * p->portal_count + 2);
 	PVS__FREE_N(al, b.scratch, PVS__PO_SCRATCH);
@@ -24343,7 +24357,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
    HISTORY (older releases: README.md, "History")
    =======
    0.11.5 (2026-11-30) PORTAL: a plane found twice kept once; a portal's box tested against a plane first; few keys
-   sorted by insertion: -15%.
+   sorted by insertion; a leaf's objects without a part in it dropped at set-up: -18%.
    0.11.4 (2026-11-29) PORTAL: planes through a source edge tried only from the edge's silhouette side: -6%.
 
 ------------------------------------------------------------------------------
