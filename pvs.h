@@ -16851,10 +16851,12 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 		if (!(s->object_flags[ob.o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + ob.o))
 			pvs__po_box_down(p, s->object_boxes + ob.o, p->root, pvs__po_object_leaf, &ob);
 	ok = !b.oom && pvs__po_csr(al, p->lo_pairs, p->lo_count, (uint32_t)p->leaf_count, &p->lo_first, &p->lo);
-	for (k = 0, i = 0; ok && i < p->leaf_count; ++i) { /* objects with no part in a leaf: never kept there, dropped */
+	for (k = 0, i = 0; ok && i < p->leaf_count; ++i) { /* objects of <= 64 triangles with no part in a leaf: never kept
+															there, dropped (bigger ones kept: bounded set-up) */
 		uint32_t e = p->lo_first[i + 1], j = p->lo_first[i];
 		for (p->lo_first[i] = k; j < e; ++j)
-			if (pvs__po_meets(p, s, (uint32_t)i, p->lo[j], NULL)) p->lo[k++] = p->lo[j];
+			if (s->object_triangles[2 * (size_t)p->lo[j] + 1] > 64 || pvs__po_meets(p, s, (uint32_t)i, p->lo[j], NULL))
+				p->lo[k++] = p->lo[j];
 	}
 	if (ok) p->lo_first[p->leaf_count] = k;
 done:
