@@ -16660,10 +16660,8 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			}
 			for (w.n = p2->n, c = k = 0; k < win.np && w.n >= 3; ++k) { /* copied when a plane may cut it */
 				int side = pvs__po_box_clip(p2->b, win.pl[k], p->tol);
-				if (side >= 0) {
-					w.n = side ? w.n : 0;
-					continue;
-				}
+				w.n = side ? w.n : 0;
+				if (side >= 0) continue;
 				if (!c++) memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
 				f->cut |= pvs__po_clip(&w, win.pl[k], p->tol);
 			}

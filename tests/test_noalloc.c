@@ -489,16 +489,16 @@ static void bd_test_heaps(void) {
     }
 }
 
-/* pvs__key_index_sort (insertion under 17 items, the heap above) against qsort under the same total order: (key,
+/* pvs__key_index_sort (insertion up to 16 keys, the heap above) against qsort under the same total order: (key,
    index) pairs with tied keys and indices in random order. */
 static int bd_key_cmp(const void *a, const void *b) {
     return pvs__key_index_before(a, b) ? -1 : pvs__key_index_before(b, a) ? 1 : 0;
 }
 static void bd_test_key_sort(void) {
-    pvs__key_index a[40], ref[40];
+    pvs__key_index a[40], ref[40]; /* 0 to 40 keys */
     uint32_t trial, i, bad = 0;
     for (trial = 0; trial < 400; ++trial) {
-        uint32_t n = trial % 41 < 40 ? trial % 41 : 0, levels = 1 + (uint32_t)(6 * bd_rnd());
+        uint32_t n = trial % 41, levels = 1 + (uint32_t)(6 * bd_rnd());
         for (i = 0; i < n; ++i) a[i].key = (double)(uint32_t)(levels * bd_rnd()) - 2.0, a[i].index = i;
         for (i = n; i > 1; --i) { /* shuffled indices: ties fall back to them */
             uint32_t j = (uint32_t)(i * bd_rnd()) % i, t = a[i - 1].index;
