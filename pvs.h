@@ -176,7 +176,7 @@
 extern "C" {
 #endif
 
-/* ---- core ---- */
+/* ---- core */
 
 /* Fallible calls' result: 0 success, errors < 0. */
 typedef enum pvs_result {
@@ -254,7 +254,7 @@ PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint3
 typedef struct pvs_kdtree pvs_kdtree;
 
 #ifndef PVS_RUNTIME_ONLY /* bake's modules, up to >>vocc's run-time part */
-/* ---- scene ---- */
+/* ---- scene */
 
 #define PVS_OBJECT_OCCLUDER_ONLY 1u /* blocks sight, never drawn: never in a PVS */
 /* Drawn and in PVSs but never blocks sight (any method, ray sampling, per-frame culling): glass, foliage, grates,
@@ -375,7 +375,7 @@ typedef struct pvs_walkable_desc {
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable_desc *desc, pvs_box *cells,
 									  uint32_t capacity, uint32_t *count, pvs_error *err);
 
-/* ---- kdtree ---- */
+/* ---- kdtree */
 
 /* pvs_kdtree (see core): binned SAH, items in each leaf they meet. Immutable, thread-safe. */
 typedef struct pvs_kdtree_desc {
@@ -438,7 +438,7 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const
    in an empty leaf. No allocation. */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
 
-/* ---- raster ---- */
+/* ---- raster */
 
 /* Depth (reversed Z): z_clip / w_clip, LARGER IS NEARER. pvs_camera_matrix maps near plane to 1, infinity to 0
    (orthographic: 1 at near, linear, negative past `far`). Clipping keeps points with z_clip <= w_clip and w_clip > 0;
@@ -643,7 +643,7 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *raster, const pvs_scene *scene, c
 PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
 									   const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 									   pvs_error *err);
-/* ---- otree ---- */
+/* ---- otree */
 
 /* Occlusion trees (Bittner 2002): BSPs over line space built front to back; every float decision conservative. */
 
@@ -753,7 +753,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, cons
 								  pvs_error *err);
 PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame);
 
-/* ---- occluders ---- */
+/* ---- occluders */
 
 /* Occluder synthesis: certainly-solid volumes for shrink method (Wonka 2000 §2: its appendix theorem needs volumetric
    occluders). A voxel is solid only if crossing-parity floods from cells prove no viewer reaches it without touching a
@@ -831,7 +831,7 @@ PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float 
    object for boxes inside them. */
 PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occluders, uint32_t *count);
 
-/* ---- vocc ---- */
+/* ---- vocc */
 #endif /* PVS_RUNTIME_ONLY */
 
 /* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in real occluders'
@@ -904,7 +904,7 @@ PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uin
 								 const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
 								 void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
 
-/* ---- methods ---- */
+/* ---- methods */
 
 /* Region methods (CONCEPTS); all but SAMPLE conservative. 0 = AUTO. */
 typedef enum pvs_method {
@@ -964,7 +964,7 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
 											  uint32_t rays_per_object, uint64_t seed, pvs_word *visible);
 
-/* ---- extended projections (Durand, Drettakis, Thollot, Puech 2000) ---- */
+/* ---- extended projections (Durand, Drettakis, Thollot, Puech 2000) */
 
 /* Projection plane (Durand 2000 §2.4, §6.1) perpendicular to `axis`, `distance` > 0 beyond cell's face on `side` (+1:
    max, -1: min); Depth (§2.3): distance past that face. rect = (u0, v0, u1, v1) over u = (axis + 1) % 3, v = (axis +
@@ -1004,7 +1004,7 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_
    MEMORY), less scratch growing with occluders; 0 outside 16..4096 or past 256 planes. */
 PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
-/* ---- bake ---- */
+/* ---- bake */
 
 /* SAMPLE's parameters (pvs_bake_desc.sample). */
 typedef struct pvs_bake_sample_params {
@@ -1191,7 +1191,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
 #endif /* PVS_RUNTIME_ONLY */
 
-/* ---- format ---- */
+/* ---- format */
 
 #define PVS_FILE_APPROXIMATE 1u /* file flag: estimated (SAMPLE), not conservative */
 
@@ -1297,7 +1297,7 @@ PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell,
    *scale_code its scale (FILE FORMAT); either output may be NULL. */
 PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
 
-/* ---- runtime ---- */
+/* ---- runtime */
 
 /* Object's name, NUL-terminated, in file's bytes; NULL if file stores no names (NAME) or object >= object_count. No
    allocation. */
@@ -1505,7 +1505,7 @@ PVS__STATIC void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size
 /* Zeroes the object x (a variable, *p, a member). */
 #define PVS__ZERO(x) memset(&(x), 0, sizeof(x))
 
-/* ---- math (private names: none leak into engine) ---- */
+/* ---- math (private names: none leak into engine) */
 
 typedef struct pvs__v3 {
 	float x, y, z;
@@ -1613,7 +1613,7 @@ PVS__STATIC int32_t pvs__clampi(double v, int32_t lo, int32_t hi) {
 	return (int32_t)v;
 }
 
-/* ---- bitsets ---- */
+/* ---- bitsets */
 
 PVS_API int pvs_bitset_test(const pvs_word *bits, uint32_t i) { return (int)((bits[i >> 6] >> (i & 63)) & 1u); }
 PVS_API void pvs_bitset_set(pvs_word *bits, uint32_t i) { bits[i >> 6] |= (pvs_word)1 << (i & 63); }
@@ -1675,7 +1675,7 @@ PVS__STATIC float pvs__random01(uint64_t *state) {
 	return (float)(pvs__splitmix64(state) >> 40) * (1.0f / 16777216.0f);
 }
 
-/* ---- growable arrays ---- */
+/* ---- growable arrays */
 
 /* Grows array of `elem`-byte elements to hold `need` (doubling), keeping first `used`; capped at `limit` if limit >=
    need. Returns it, or NULL with *r set (old one still caller's). */
@@ -1712,7 +1712,7 @@ PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, si
 	return 1;
 }
 
-/* ---- heaps: sort, top-k, allocation-free ---- */
+/* ---- heaps: sort, top-k, allocation-free */
 
 /* qsort order of records starting with two uint32_t: first, then second. */
 PVS__STATIC int pvs__pair_cmp(const void *a, const void *b) {
@@ -1831,7 +1831,7 @@ PVS__STATIC void pvs__key_index_sort(pvs__key_index *o, uint32_t n) {
 	}
 }
 
-/* ---- little-endian bytes: file format, VOCC section ---- */
+/* ---- little-endian bytes: file format, VOCC section */
 
 PVS__STATIC void pvs__put32(uint8_t *p, uint32_t v) {
 	p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24);
@@ -1867,7 +1867,7 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 }
 
 #ifndef PVS_RUNTIME_ONLY /* up to >>vocc's quantization: bake side */
-/* ---- bake's method table (what >>bake's driver knows) ---- */
+/* ---- bake's method table (what >>bake's driver knows) */
 
 /* A bake method: a row of >>bake's pvs__bake_methods, functions over per-bake state. Driver checks all methods'
    parameters, prepares those bake may run, keeps those that can cull in scene (AUTO), runs each on every cell,
@@ -2839,7 +2839,7 @@ done:
 PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *t) { return t->bounds; }
 PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *t) { return t->node_count; }
 
-/* ---- sweep ---- */
+/* ---- sweep */
 
 typedef struct pvs__kdsweep {
 	float d2; /* squared min distance from source */
@@ -2948,7 +2948,7 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
 	return PVS_OK;
 }
 
-/* ---- ray walk ---- */
+/* ---- ray walk */
 
 /* Stack walk (Havran's TA_rec_B family), double; leaf ranges widen by PVS__KD_RAY_TOL: no touched leaf skipped. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const float dir[3], float tmax_f,
@@ -3039,7 +3039,7 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 	}
 }
 
-/* ---- point location ---- */
+/* ---- point location */
 
 /* A point on split plane goes left; that leaf holds every box containing it (touching boxes go both ways). */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *t, const float p[3], uint32_t *count) {
@@ -3054,7 +3054,7 @@ PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *t, const float p
 	return t->items + (nd->bits >> 2);
 }
 
-/* ---- scene ray casts ---- */
+/* ---- scene ray casts */
 
 PVS__STATIC int pvs__point_less(const float *a, const float *b) {
 	if (a[0] != b[0]) return a[0] < b[0];
@@ -3264,15 +3264,14 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 /* ==== raster: conservative rasterizer (Durand 2000 §3.1-3.2), depth pyramid (§2.4), cull map (Wonka & Schmalstieg
    1999 §3-4), per-frame culling (Bittner 2002 §3.2, §4.5) ==== */
 
-/* Rounding. Per polygon (a triangle clipped to near plane) setup is in double: edge functions E (>= 0 inside, |a| + |b|
-   = 1) at range's corner plus their exact extreme over a pixel, min(0, a) + min(0, b) for inner coverage (occluders) or
-   max(0, a) + max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Error bounds are subtracted
-   (occluder) or added (occludee) before rounding to float: 2^-40 of coordinates' size for setup and projection, over
-   edge length, and 2^-20 of terms for float c + a i + b j. Depth z/w is affine: plane's extreme at pixel corners
-   (inner) or among corners and vertices (outer), plus margin, clamped by vertices' extreme depth. Degenerate polygons
-   cover nothing as occluders, their rectangle at nearest depth as occludees. Scalar and SIMD do same float operations
-   in order: bit-identical without FMA contraction (pragma below for clang). Limit: near-plane cut has no margin (an
-   occludee may lose a sliver about 2^-51 |b - a| / near wide). */
+/* Rounding. Per-polygon (triangle clipped to near plane) setup in double: edge functions E (>= 0 inside, |a| + |b| = 1)
+   at range's corner + exact extreme over pixel, min(0, a) + min(0, b) for inner coverage (occluders) or max(0, a) +
+   max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Error bounds subtracted (occluder) or added
+   (occludee) before float rounding: 2^-40 of coordinates' size for setup and projection, over edge length, and 2^-20 of
+   terms for float c + a i + b j. Depth z/w affine: plane's extreme at pixel corners (inner) or corners and vertices
+   (outer), + margin, clamped by vertices' extreme depth. Degenerate polygons cover nothing as occluders, rectangle at
+   nearest depth as occludees. Scalar, SIMD: same float ops in order, bit-identical without FMA contraction (pragma
+   below for clang). Limit: near-plane cut has no margin (occludee may lose sliver ~2^-51 |b - a| / near wide). */
 
 #if !defined(PVS_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #define PVS__SSE2 1
@@ -3281,16 +3280,15 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 #define PVS__NEON 1
 #include <arm_neon.h>
 #endif
-/* AVX2 twins (issue 31): GCC and Clang build hot f again as f2 for AVX2 (flatten: with all it calls; VEX, wider loops,
-   no FMA: the same bits), run when the CPU has it (PVS__ISA); f returns a value (0 if none). MSVC: /arch:AVX2 builds
-   all so. */
+/* AVX2 twins (issue 31): GCC, Clang build hot f again as f2 for AVX2 (flatten: with all it calls; VEX, wider loops, no
+   FMA: same bits), run when CPU has it (PVS__ISA); f returns value (0 if none). MSVC: /arch:AVX2 builds all so. */
 #if defined(PVS__SSE2) && !defined(__AVX2__) && (defined(__x86_64__) || defined(__i386__)) && \
 	(defined(__clang__) || __GNUC__ >= 5)
 #define PVS__TWIN(t, f, params, args) \
 	__attribute__((target("avx2"), flatten)) PVS__STATIC t f##2 params { return f args; }
 #define PVS__ISA(r, f, args) ((r)->avx2 ? f##2 args : f args)
 #define PVS__CPU_AVX2() (__builtin_cpu_init(), __builtin_cpu_supports("avx2")) /* init: before constructors too */
-#define PVS__AVX8 __attribute__((target("avx2"))) /* eight-lane kernels (pvs__f8), as twins */
+#define PVS__AVX8 __attribute__((target("avx2"))) /* 8-lane kernels (pvs__f8), as twins */
 #define PVS__AVX8_ON(r) (r)->avx2
 #else
 #define PVS__TWIN(t, f, params, args)
@@ -3305,10 +3303,10 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 #include <immintrin.h>
 #endif
 
-/* Lanes: four floats (pvs__f4), four int32 (pvs__i4), a mask (pvs__m4: lanes all ones or zero) and the SIMD kernels'
-   operations: min, max are a < b ? a : b, a > b ? a : b (SSE2 minps / maxps; NEON compare and select, as vminq differs
-   on NaN and signed zeros); float to int truncates (NEON saturates where SSE2 gives INT_MIN: kernels keep lanes in
-   range); shl_ones is ~0 << clamp(n, 0, 32). PVS__LANES_DIV adds div, hmin2 and hmax2 (over eight lanes). */
+/* Lanes: 4 floats (pvs__f4), 4 int32 (pvs__i4), mask (pvs__m4: lanes all ones or zero) and SIMD kernels' ops: min, max:
+   a < b ? a : b, a > b ? a : b (SSE2 minps/maxps; NEON compare-select: vminq differs on NaN, signed zeros); float to
+   int truncates (NEON saturates where SSE2 gives INT_MIN: kernels keep lanes in range); shl_ones: ~0 << clamp(n, 0,
+   32). PVS__LANES_DIV adds div, hmin2, hmax2 (over 8 lanes). */
 #if defined(PVS__SSE2)
 #define PVS__LANES 1
 #define PVS__LANES_DIV 1
@@ -3354,7 +3352,7 @@ PVS__STATIC __m128i pvs__i4_sel(__m128 m, __m128i a, __m128i b) {
 	__m128i k = _mm_castps_si128(m);
 	return _mm_or_si128(_mm_and_si128(k, a), _mm_andnot_si128(k, b));
 }
-/* 2^n built in a float's exponent, converted (2^31 gives 1 << 31), negated; 0 for n >= 32 */
+/* 2^n built in float's exponent, converted (2^31 gives 1 << 31), negated; 0 for n >= 32 */
 PVS__STATIC __m128i pvs__i4_shl_ones(__m128i n) {
 	__m128i p;
 	n = _mm_andnot_si128(_mm_srai_epi32(n, 31), n);
@@ -3371,7 +3369,7 @@ PVS__STATIC float pvs__f4_hmax2(__m128 a, __m128 b) {
 	v = _mm_max_ps(v, _mm_movehl_ps(v, v));
 	return _mm_cvtss_f32(_mm_max_ss(v, _mm_shuffle_ps(v, v, 1)));
 }
-/* four (x, y, z, -) vertices, 4 readable floats each, to X, Y, Z lanes */
+/* 4 (x, y, z, -) vertices, 4 readable floats each, to X, Y, Z lanes */
 PVS__STATIC void pvs__f4_xyz(const float *a, const float *b, const float *c, const float *d, __m128 *X, __m128 *Y,
 							 __m128 *Z) {
 	__m128 va = _mm_loadu_ps(a), vb = _mm_loadu_ps(b), vc = _mm_loadu_ps(c), vd = _mm_loadu_ps(d);
@@ -3424,7 +3422,7 @@ PVS__STATIC int pvs__m4_bits(uint32x4_t m) {
 	return (int)((vgetq_lane_u32(m, 0) & 1u) | (vgetq_lane_u32(m, 1) & 2u) | (vgetq_lane_u32(m, 2) & 4u) |
 				 (vgetq_lane_u32(m, 3) & 8u));
 }
-PVS__STATIC int32x4_t pvs__i4_shl_ones(int32x4_t n) { /* a shift by >= 32 gives 0 */
+PVS__STATIC int32x4_t pvs__i4_shl_ones(int32x4_t n) { /* shift by >= 32 gives 0 */
 	n = vminq_s32(vmaxq_s32(n, vdupq_n_s32(0)), vdupq_n_s32(32));
 	return vreinterpretq_s32_u32(vshlq_u32(vdupq_n_u32(~0u), n));
 }
@@ -3442,7 +3440,7 @@ PVS__STATIC void pvs__f4_xyz(const float *a, const float *b, const float *c, con
 #endif
 #endif
 #if defined(PVS__LANES)
-/* ceil, floor to int as the scalar (float)(int32_t)f < f tests */
+/* ceil, floor to int as scalar (float)(int32_t)f < f tests */
 PVS__STATIC pvs__i4 pvs__f4_ceili(pvs__f4 f) {
 	pvs__i4 i = pvs__f4_trunc(f);
 	return pvs__i4_sub(i, pvs__i4_from_m4(pvs__f4_lt(pvs__f4_from_i4(i), f)));
@@ -3456,7 +3454,7 @@ PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
 #pragma STDC FP_CONTRACT OFF
 #endif
 #if defined(PVS__AVX8)
-/* Eight lanes (pvs__f8, pvs__i8, pvs__m8) for AVX2 kernels: pvs__f4's operations on __m256, the same IEEE results. */
+/* 8 lanes (pvs__f8, pvs__i8, pvs__m8) for AVX2 kernels: pvs__f4's ops on __m256, same IEEE results. */
 typedef __m256 pvs__f8;
 typedef __m256i pvs__i8;
 typedef __m256 pvs__m8;
@@ -3503,15 +3501,15 @@ PVS__AVX8 PVS__STATIC void pvs__f8_xyz3(const float *const v[][3], int k, __m256
 }
 #endif
 
-#define PVS__RASTER_MAXV 8 /* a clipped triangle has <= 5 */
+#define PVS__RASTER_MAXV 8 /* clipped triangle has <= 5 */
 #define PVS__VTX(r, pos, q) ((pos) + (size_t)(q) * (r)->vstride)
 #define PVS__RASTER_ERR_D 9.094947017729282e-13 /* 2^-40 */
 #define PVS__RASTER_ERR_F 9.5367431640625e-07	/* 2^-20 */
 #define PVS__RASTER_MAX_LEVELS 16
 #define PVS__RASTER_BIG 1e30
 
-/* A context's buffers, listed once for creation and destruction: entry k's *p gets n elements of `size` bytes
-   (pvs__bufs_alloc: goes on past a failure, 0 if one failed) or is freed (pvs__bufs_free; skips NULL). */
+/* Context's buffers, listed once for creation, destruction: entry k's *p gets n elements of `size` bytes
+   (pvs__bufs_alloc: goes on past failure, 0 if one failed) or freed (pvs__bufs_free; skips NULL). */
 typedef struct pvs__buf {
 	void **p;
 	size_t n, size;
@@ -3555,14 +3553,14 @@ struct pvs_raster {
 	int pyramid_valid; /* 1: per-pixel pyramid current, 2: tile one */
 	pvs__tile *tile;
 	uint32_t tw, th; /* tile grid */
-	uint32_t xpad; /* last tile column's bits past the map */
-	uint32_t ypad; /* last tile row's rows in the map (1..4) */
-	int tiled; /* occluders go to the tiles, else to `depth` */
-	int mixed; /* `depth` holds occludees drawn since the clear (untiled: all) */
-	float *bmin; /* per block of 8 x 8 tiles: <= the least base z0 */
-	uint8_t *bdirty; /* 1: a base grew since bmin */
+	uint32_t xpad; /* last tile column's bits past map */
+	uint32_t ypad; /* last tile row's rows in map (1..4) */
+	int tiled; /* occluders go to tiles, else to `depth` */
+	int mixed; /* `depth` holds occludees drawn since clear (untiled: all) */
+	float *bmin; /* per block of 8 x 8 tiles: <= min base z0 */
+	uint8_t *bdirty; /* 1: base grew since bmin */
 	uint32_t bw, bh; /* block grid */
-	uint32_t tlevels; /* tile pyramid levels above the tile grid */
+	uint32_t tlevels; /* tile pyramid levels above tile grid */
 	uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
 	uint8_t tsx[PVS__RASTER_MAX_LEVELS * 2 + 1],
 		tsy[PVS__RASTER_MAX_LEVELS * 2 + 1]; /* tiles per texel: 1 << tsx by 1 << tsy */
@@ -3571,23 +3569,23 @@ struct pvs_raster {
 	size_t tpyramid_floats;
 	double m[16]; /* projection */
 	double mabs[2]; /* max row sum of |m| over x, y, z; max |m_r3| */
-	float mf[16], hwf, hhf; /* projection as given; half the map size (prefilter) */
-	float mb[16][4]; /* mf broadcast to four lanes */
+	float mf[16], hwf, hhf; /* projection as given; half map size (prefilter) */
+	float mb[16][4]; /* mf broadcast to 4 lanes */
 	double rowa[4], rowt[4]; /* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
-	/* occluder meshes (pvs_raster_mesh): scratch for mesh_cap triangles, four pixel rows */
-	uint32_t mesh_cap, mesh_hash; /* triangles per piece; hash slots (a power of two) */
+	/* occluder meshes (pvs_raster_mesh): scratch for mesh_cap triangles, 4 pixel rows */
+	uint32_t mesh_cap, mesh_hash; /* triangles per piece; hash slots (power of 2) */
 	uint32_t vstride; /* floats per vertex (pvs_raster_draw's stride) */
 	int cull; /* occluders of this pvs__mesh_facing left out; 0: none */
 	struct pvs__mtri *mt; /* prepared triangles */
 	uint32_t *mcid, *mpart; /* 3 mesh_cap: welded vertex per corner; partner half-edge */
-	uint8_t *mvst; /* 3 mesh_cap: corner state against the clip planes */
+	uint8_t *mvst; /* 3 mesh_cap: corner state against clip planes */
 	int8_t *mgrp; /* mesh_cap: facing +1 / -1, 0 = left out */
-	uint32_t *mtab, *morder, *mact, *mband;	/* hash slots; mesh_cap (first the piece); mesh_cap; th + 1 */
-	uint32_t mcn; /* the piece's triangles */
-	int32_t mlo, mhi; /* tiles the band's strips touch */
-	float *mzmin; /* 4 width: least bound of touching triangles */
-	uint8_t *mflag; /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
-	uint32_t *mdirty; /* 4 tw: pixels of band words the scratch holds (bit k: column 32 tx + k) */
+	uint32_t *mtab, *morder, *mact, *mband;	/* hash slots; mesh_cap (first piece); mesh_cap; th + 1 */
+	uint32_t mcn; /* piece's triangles */
+	int32_t mlo, mhi; /* tiles band's strips touch */
+	float *mzmin; /* 4 width: min bound of touching triangles */
+	uint8_t *mflag; /* 4 width: 1: triangle surely meets pixel, 2: boundary edge may */
+	uint32_t *mdirty; /* 4 tw: pixels of band words scratch holds (bit k: column 32 tx + k) */
 	const pvs_scene *scene;
 	uint32_t max_objects, max_triangles;
 	void *sweep;
@@ -3605,7 +3603,7 @@ struct pvs_raster {
 	uint32_t *cm_items;
 	uint32_t cm_item_count;
 	float *cm_bound; /* highest object top per cell (Wonka 1999 §4.3) */
-	float ground; /* scene's lowest point on the up axis */
+	float ground; /* scene's lowest point on up axis */
 	uint32_t qtri_cap;
 	struct pvs__qtri *qtri; /* qtri_cap: kept triangles, part p's from PVS__QFIRST(total, p) */
 	uint16_t *qrows; /* qtri_cap: bands b0, b1 */
@@ -3614,8 +3612,8 @@ struct pvs_raster {
 };
 
 typedef struct pvs__rsetup {
-	int32_t i0, i1, j0, j1; /* pixel range; (i0, j0) is coefficients' origin */
-	int32_t li0, li1, lj0, lj1; /* part a loop covers (one tile) */
+	int32_t i0, i1, j0, j1; /* pixel range; (i0, j0): coefficients' origin */
+	int32_t li0, li1, lj0, lj1; /* part loop covers (one tile) */
 	int edges;
 	float a[PVS__RASTER_MAXV], b[PVS__RASTER_MAXV], k[PVS__RASTER_MAXV];
 	float za, zb, zk; /* depth plane bound */
@@ -3682,7 +3680,7 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
 }
 #endif
 
-/* 8 x 8 tiles keep their farthest depth; a polygon skips tiles it is outside or cannot be nearer than (same result). */
+/* 8 x 8 tiles keep farthest depth; polygon skips tiles it is outside or cannot be nearer than (same result). */
 #define PVS__TILE_SHIFT 3
 #define PVS__TILE (1 << PVS__TILE_SHIFT)
 
@@ -3698,7 +3696,7 @@ PVS__STATIC void pvs__tile_update(float *buf, uint32_t W, uint32_t H, float *til
 	tile_min[ty * ((W + PVS__TILE - 1) >> PVS__TILE_SHIFT) + tx] = lo;
 }
 
-/* -1: every pixel of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fails an edge as float loops see it, 1: all pass, 0:
+/* -1: every pixel of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fails edge as float loops see it, 1: all pass, 0:
    undecided (in double, slack 2^-18 of terms). */
 PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
 	int e, inside = 1;
@@ -3713,8 +3711,8 @@ PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a
 	return inside;
 }
 
-/* The most (least: the least) the loops can write over pixels [a0, a1] x [b0, b1] (relative), slack included: the
-   affine depth's extreme corner (rounding is monotone). */
+/* The most (least: the least) the loops can write over pixels [a0, a1] x [b0, b1] (relative), slack included: affine
+   depth's extreme corner (rounding monotone). */
 PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1,
 									  int occluder, int least) {
 	double pa = s->za, pb = s->zb, z,
@@ -3782,7 +3780,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 					s->edges = edges;
 					if (!wrote) continue;
 					if (inside && a1 - a0 == PVS__TILE - 1 && b1 - b0 == PVS__TILE - 1) {
-						/* full tile: least depth written, a lower bound, all skipping needs */
+						/* full tile: min depth written, lower bound, all skipping needs */
 						double lo = pvs__raster_zbound(s, a0, a1, b0, b1, occluder, 1);
 						if (lo > tile_min[ty * tw + tx]) tile_min[ty * tw + tx] = pvs__f_down(lo);
 					} else {
@@ -3809,8 +3807,8 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
 }
 
 /* Depth plane of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi, oy + fj),
-   fi <= iw, fj <= jh, from its largest fan triangle: p = za, zb, zk (z = zk + za fi + zb fj) and setup error bound; 0
-   if no fan triangle has an area. */
+   fi <= iw, fj <= jh, from largest fan triangle: p = za, zb, zk (z = zk + za fi + zb fj), setup error bound; 0 if no
+   fan triangle has area. */
 PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double *z, int n, double ox, double oy,
 								  double iw, double jh, double span, double mag, double zmag, double perr, double zerr,
 								  double p[4]) {
@@ -3833,8 +3831,8 @@ PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double
 	return 1;
 }
 
-/* Depth plane bound over those pixels (pvs__raster_plane): (zk + zb fj) + za fi in float is at most (occluder) or at
-   least (occludee) plane's extreme over pixel. None: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
+/* Depth plane bound over those pixels (pvs__raster_plane): (zk + zb fj) + za fi in float <= (occluder) or >= (occludee)
+   plane's extreme over pixel. None: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
 PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy,
 									double iw, double jh, double span, double mag, double zmag, double perr,
 									double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
@@ -3855,7 +3853,7 @@ PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const doub
 	}
 }
 
-/* Bounds, doubled signed area, largest |x| + |y| and |z|; 0 if n < 3 or NaN. */
+/* Bounds, doubled signed area, max |x| + |y| and |z|; 0 if n < 3 or NaN. */
 typedef struct pvs__polyext {
 	double xmin, xmax, ymin, ymax, zmin, zmax, area2, mag, zmag;
 } pvs__polyext;
@@ -3877,15 +3875,15 @@ PVS__STATIC int pvs__poly_extent(const double *x, const double *y, const double 
 	return 1;
 }
 
-/* 0 if polygon (extent e, span its width plus height) is beyond useful precision or degenerate. */
+/* 0 if polygon (extent e, span = width + height) beyond useful precision or degenerate. */
 PVS__STATIC int pvs__poly_usable(const pvs__polyext *e, double span) {
 	return e->mag < PVS__RASTER_BIG * PVS__RASTER_BIG && pvs__dabs(e->area2) > 1e-9 * span * span &&
 		pvs__dabs(e->area2) > 1e-300;
 }
 
-/* Edge i of polygon x, y (flip: clockwise) over pixels (ox + fi, oy + fj), fi <= iw, fj <= jh, per Rounding: e = a,
-   b, k, E = a fi + b fj + k. Mode 0 occludee, 1 occluder, 2 tile loops (own float margin). 1: an edge to test, 0:
-   every pixel passes it (or no length), -1: none does. */
+/* Edge i of polygon x, y (flip: clockwise) over pvs__raster_plane's pixels, per Rounding: e = a, b, k, E = a fi + b fj
+   + k. Mode 0 occludee, 1 occluder, 2 tile loops (own float margin). 1: edge to test, 0: every pixel passes it (or no
+   length), -1: none does. */
 PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n, int flip, double ox, double oy,
 								 double iw, double jh, double mag, double perr, int mode, double e[3]) {
 	int j = i + 1 == n ? 0 : i + 1;
@@ -3912,7 +3910,7 @@ PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n,
 	return 1;
 }
 
-/* Rasterizes a convex polygon (pixels x, y; affine depth z) into a W x H buffer, keeping nearer depth. */
+/* Rasterizes convex polygon (pixels x, y; affine depth z) into W x H buffer, keeping nearer depth. */
 PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *tile_min, const double *x, const double *y,
 								  const double *z, int n, int occluder, int simd, double perr, double zerr) {
 	pvs__rsetup s;
@@ -3969,9 +3967,9 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 	pvs__raster_run(&s, buf, W, H, tile_min, occluder, simd, pvs__f_up(zhi));
 }
 
-/* ---- occluder buffer: Masked Occlusion Culling (Hasselgren, Andersson and Akenine-Moller 2016), inner coverage. A
-   polygon's inner pixels in a 32 x 4 tile row are one run of columns from edges' intercepts (shifted masks); working
-   layer merges over base by paper's heuristic. ---- */
+/* ---- occluder buffer: Masked Occlusion Culling (Hasselgren, Andersson and Akenine-Moller 2016), inner coverage.
+   Polygon's inner pixels in 32 x 4 tile row: one run of columns from edges' intercepts (shifted masks); working layer
+   merges over base by paper's heuristic. ---- */
 
 #define PVS__TW_SHIFT 5
 #define PVS__TH_SHIFT 2
@@ -3982,8 +3980,8 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 #define PVS__U_2_44 5.684341886080802e-14
 #define PVS__U_2_48 3.552713678800501e-15
 
-/* Occluder polygon for tile loops (i, j relative to (i0, j0)): pixel i of row j is inside edge e if i >= X_e(j) (left)
-   or i <= X_e(j) (right); X_e(j) = xi + s j with margins; m: its float error bound. */
+/* Occluder polygon for tile loops (i, j relative to (i0, j0)): pixel i of row j inside edge e if i >= X_e(j) (left) or
+   i <= X_e(j) (right); X_e(j) = xi + s j with margins; m: float error bound. */
 typedef struct pvs__tpoly {
 	int32_t i0, i1, j0, j1; /* inner pixel range (absolute) */
 	int32_t jlo, jhi; /* rows (relative) near-horizontal edges leave */
@@ -3993,16 +3991,15 @@ typedef struct pvs__tpoly {
 	float zk, za, zb, zm, zlo; /* plane at (i0, j0) less float margin zm, clamped to farthest vertex zlo */
 } pvs__tpoly;
 
-/* What a prefiltered occluder may change: tiles [tx0, tx1] x [ty0, ty1], depths up to zmax (its nearest vertex's;
-   farther: conservative). So drawing it where prefilter finds it hidden is a no-op: bands equal a whole frame. */
+/* What prefiltered occluder may change: tiles [tx0, tx1] x [ty0, ty1], depths <= zmax (nearest vertex's; farther:
+   conservative). So drawing it where prefilter finds it hidden is no-op: bands equal whole frame. */
 typedef struct pvs__tlim {
 	int32_t tx0, tx1, ty0, ty1;
 	float zmax;
 	int cull;
 } pvs__tlim;
 
-/* Columns L[d] .. R[d] (absolute; L > R: empty) of rows jrow + d inside every edge, from xr = X(jrow); SIMD's
-   reference. */
+/* Columns L[d]..R[d] (absolute; L > R: empty) of rows jrow + d inside every edge, from xr = X(jrow); SIMD reference. */
 PVS__STATIC void pvs__tile_rows_scalar(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
 	const float fw = (float)(t->i1 - t->i0), fw1 = fw + 1.0f;
 	int d, e;
@@ -4031,7 +4028,7 @@ PVS__STATIC void pvs__tile_rows_scalar(const pvs__tpoly *t, int32_t jrow, const 
 	}
 }
 
-/* Mask bits of columns L .. R in tile row from column x0 (bit k: column x0 + k). */
+/* Mask bits of columns L..R in tile row from column x0 (bit k: column x0 + k). */
 PVS__STATIC uint32_t pvs__tile_bits(int32_t L, int32_t R, int32_t x0) {
 	int32_t lo = L - x0, hi = R - x0 + 1;
 	uint32_t a, b;
@@ -4064,7 +4061,7 @@ PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const fl
 	pvs__i4_store(L, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(1), l), pvs__i4_set1(t->i0)));
 	pvs__i4_store(R, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(0), r), pvs__i4_set1(t->i0)));
 }
-/* The four rows' bits of tile at column x0; 0 if all are empty. */
+/* 4 rows' bits of tile at column x0; 0 if all empty. */
 PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
 	pvs__i4 vx = pvs__i4_set1(x0), m;
 	m = pvs__i4_andn(pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_load(L), vx)),
@@ -4074,10 +4071,10 @@ PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t 
 }
 #endif
 
-/* Merges coverage T (as near as zt > z0) into a tile, Hasselgren et al.'s two-layer update: T covering tile becomes
-   base; else layer takes union at farther depth, or T if T leads it by more than it leads base; a full layer becomes
-   base. Every pixel stays a lower bound of its nearest occluder. Off map: rows whose bit is set in `rows`, bits
-   `xpad` (an array's narrow stores stalled the wide loads: tests/BENCHMARKS.md, raster). */
+/* Merges coverage T (as near as zt > z0) into tile, Hasselgren et al.'s two-layer update: T covering tile becomes base;
+   else layer takes union at farther depth, or T if T leads it by more than it leads base; full layer becomes base.
+   Every pixel stays lower bound of nearest occluder. Off map: rows with bit set in `rows`, bits `xpad` (array's narrow
+   stores stalled wide loads: tests/BENCHMARKS.md, raster). */
 PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, uint32_t rows, uint32_t xpad) {
 	uint32_t full = ~0u, any = 0, m;
 	int k;
@@ -4109,7 +4106,7 @@ PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, uin
 	}
 }
 
-/* A polygon's tile rows: runs of its four pixel rows, then per tile its farthest depth; skips tiles already as near. */
+/* Polygon's tile rows: runs of 4 pixel rows, then per tile farthest depth; skips tiles already as near. */
 PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, const pvs__tlim *lim) {
 	int32_t ty, ty0 = (t->j0 + t->jlo) >> PVS__TH_SHIFT, ty1 = (t->j0 + t->jhi) >> PVS__TH_SHIFT;
 	float xr[PVS__RASTER_MAXV];
@@ -4118,7 +4115,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, con
 	for (ty = ty0; ty <= ty1; ++ty) {
 		int32_t jr = ty << PVS__TH_SHIFT, jrow = jr - t->j0, L[PVS__TH], R[PVS__TH], lmin = INT32_MAX, rmax = -1;
 		int32_t tx, tx1;
-		int32_t fl = -1, fr = INT32_MAX; /* columns all four rows cover */
+		int32_t fl = -1, fr = INT32_MAX; /* columns all 4 rows cover */
 		int d, e, da = -1, db = -1;
 		uint32_t cov[PVS__TH];
 		float ya, yb, zy, p, zt, z0;
@@ -4135,7 +4132,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, con
 			pvs__tile_rows_scalar(t, jrow, xr, L, R);
 		for (d = 0; d < PVS__TH; ++d) {
 			if (L[d] > R[d]) {
-				if (jr + d < (int32_t)r->height) fr = -2; /* empty row in map: no tile is full */
+				if (jr + d < (int32_t)r->height) fr = -2; /* empty row in map: no tile full */
 				continue;
 			}
 			lmin = L[d] < lmin ? L[d] : lmin;
@@ -4203,8 +4200,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 		if (!r) continue;
 		a = ed[0]; b = ed[1]; k = ed[2];
 		if (pvs__dabs(a) > pvs__dabs(b) * PVS__U_2_20) {
-			/* i >= X(j) for a > 0, i <= X(j) for a < 0; X(jrow) clamped to +-cl; float error at most 3 cl + 13 |s|
-			   units of 2^-24 plus 2^-51 (|xi| + |s| |jrow|), below m */
+			/* i >= X(j) for a > 0, i <= X(j) for a < 0; X(jrow) clamped to +-cl; float error <= 3 cl + 13 |s| units of
+			   2^-24 + 2^-51 (|xi| + |s| |jrow|), below m */
 			double xi = -k / a, sl = -b / a, sa = pvs__dabs(sl), cl = iw + 3.0 + 3.0 * sa;
 			float m = pvs__f_up(PVS__U_2_21 * cl + PVS__U_2_48 * (pvs__dabs(xi) + sa * (jh + 4.0)));
 			if (a > 0.0) {
@@ -4239,8 +4236,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 	return 1;
 }
 
-/* Depth plane over t's range (as pvs__raster_zplane) less its setup error, zm loops' float margin, zlo clamp; unusable:
-   zk = -FLT_MAX. */
+/* Depth plane over t's range (as pvs__raster_zplane) less setup error, zm loops' float margin, zlo clamp; unusable: zk
+   = -FLT_MAX. */
 PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
 								  double mag, double zmag, double perr, double zerr, double zlo) {
 	double iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), p[4];
@@ -4249,7 +4246,7 @@ PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *
 	t->zk = -FLT_MAX;
 	if (pvs__raster_plane(x, y, z, n, (double)t->i0, (double)t->j0, iw, jh, span, mag, zmag, perr, zerr, p)) {
 		double za = p[0], zb = p[1], zk = p[2] - p[3], err = p[3], size;
-		/* float zk + za x + zb y - zm, x <= iw + 1, y <= jh + 1: at most 6 units of 2^-24 of `size` */
+		/* float zk + za x + zb y - zm, x <= iw + 1, y <= jh + 1: <= 6 units of 2^-24 of `size` */
 		size = pvs__dabs(zk) + pvs__dabs(za) * (iw + 1.0) + pvs__dabs(zb) * (jh + 1.0);
 		if (size < 1e30 && err < 1e30) {
 			t->za = (float)za;
@@ -4260,7 +4257,7 @@ PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *
 	}
 }
 
-/* Draws an occluder polygon into tiles; setup and margins as pvs__raster_poly's. */
+/* Draws occluder polygon into tiles; setup and margins as pvs__raster_poly's. */
 PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr,
 								double zerr, const pvs__tlim *lim) {
 	pvs__tpoly t;
@@ -4290,7 +4287,7 @@ PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
 	r->mixed = 1;
 }
 
-/* Per-pixel map from tiles: overwritten, or the nearer where occludees were drawn. */
+/* Per-pixel map from tiles: overwritten, or nearer where occludees drawn. */
 PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
 	uint32_t ty, tx, d, k;
 	if (!r->tiled) {
@@ -4323,12 +4320,12 @@ PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) 
 	double pm = pvs__dmax(pvs__dabs(p[0]), pvs__dmax(pvs__dabs(p[1]), pvs__dabs(p[2])));
 	for (r = 0; r < 4; ++r)
 		v.c[r] = m[4 * r] * (double)p[0] + m[4 * r + 1] * (double)p[1] + m[4 * r + 2] * (double)p[2] + m[4 * r + 3];
-	/* 2^-50 of terms' size (four products summed in double: 2^-51) */
+	/* 2^-50 of terms' size (4 products summed in double: 2^-51) */
 	v.e = 8.881784197001252e-16 * (rs->mabs[0] * pm + rs->mabs[1]);
 	return v;
 }
 
-/* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh) and depth *z; *perr, *zerr grow to cover its error. */
+/* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh) and depth *z; *perr, *zerr grow to cover error. */
 PVS__STATIC void pvs__raster_project(const pvs__cv *v, double hw, double hh, double *x, double *y, double *z,
 									 double *perr, double *zerr) {
 	double iw = 1.0 / v->c[3], e = v->e * iw;
@@ -4399,8 +4396,8 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
 	}
 }
 
-/* Facing: sign of det(x, y, w) (+1: counter-clockwise on screen), 0 within rounding: entries off by e move it at
-   most 6 ((M + e)^3 - M^3), evaluation 1e-14 (M + e)^3. */
+/* Facing: sign of det(x, y, w) (+1: CCW on screen), 0 within rounding: entries off by e move it <= 6 ((M + e)^3 - M^3),
+   evaluation 1e-14 (M + e)^3. */
 PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
 	const double *p = v[0].c, *q = v[1].c, *s = v[2].c;
 	double d =
@@ -4441,16 +4438,16 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 	PVS__ISA(r, pvs__tri, (r, p0, p1, p2, occluder, lim));
 }
 
-/* ---- occluder prefilter: four triangles at a time in float (SIMD lanes, as in Masked Occlusion Culling), dropping
-   those behind the near plane, off screen, without a whole pixel or behind every tile's base; the rest go to
-   pvs__raster_tri. Dropping occluders is conservative: no margins; scalar and SIMD agree. ---- */
+/* ---- occluder prefilter: 4 triangles at once in float (SIMD lanes, as in Masked Occlusion Culling), dropping those
+   behind near plane, off screen, without whole pixel or behind every tile's base; rest go to pvs__raster_tri. Dropping
+   occluders conservative: no margins; scalar, SIMD agree. ---- */
 
-#define PVS__PF_TILES 16 /* hidden test: per tile in boxes up to this size */
+#define PVS__PF_TILES 16 /* hidden test: per tile in boxes <= this size */
 #define PVS__FSMALL(a) (((a) < 0.0f ? 0.0f - (a) : (a)) < 1e30f)
 
 /* Lanes < n (<= 8) to draw (bit l), those in *test only if not hidden (bit 8 + l: not drawn, no whole pixel); box,
    zmax: their whole pixels in map (box[8 k + l]: i0, i1, j0, j1), nearest vertex depth. Lanes partly behind near or eye
-   plane are drawn untested (clipped later) unless wholly behind one. */
+   plane drawn untested (clipped later) unless wholly behind one. */
 PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][3], unsigned *test, int32_t *box,
 									float *zmax, int n, int cull) {
 	const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
@@ -4503,9 +4500,9 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 }
 
 #if defined(PVS__LANES_DIV)
-/* The prefilter on W lanes, written once: pvs__pf_simd in pvs__f4 (W 4; the caller runs it per half of eight lanes)
-   and pvs__pf_avx2 in pvs__f8 (W 8, where AVX2 runs: as Masked Occlusion Culling's AVX2 path). v[l][k]: 4 readable
-   floats (caller copies last vertex); as pvs__pf_scalar. F, M, I: lanes' float, mask, int32 operations. */
+/* Prefilter on W lanes, written once: pvs__pf_simd in pvs__f4 (W 4; caller runs it per half of 8 lanes) and
+   pvs__pf_avx2 in pvs__f8 (W 8, where AVX2 runs: as Masked Occlusion Culling's AVX2 path). v[l][k]: 4 readable floats
+   (caller copies last vertex); as pvs__pf_scalar. F, M, I: lanes' float, mask, int32 ops. */
 #define PVS__PF_DEF(name, F, M, I, W) \
 	PVS__STATIC unsigned name(const pvs_raster *r, const float *const v[][3], unsigned *test, int32_t *box, \
 							  float *zmax, int cull) { \
@@ -4553,7 +4550,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 						F##_mul(F##_sub(X[2], X[0]), F##_sub(Y[1], Y[0]))); \
 			all |= (unsigned)M##_bits(M##_andn(cull > 0 ? F##_gt(x, zero) : F##_lt(x, zero), anyb)); \
 		} \
-		/* min/max may lose a NaN: drop it like scalar loop (conservative) */ \
+		/* min/max may lose NaN: drop it like scalar loop (conservative) */ \
 		fin = M##_and(F##_lt(F##_abs(xmin), big), F##_lt(F##_abs(xmax), big)); \
 		fin = M##_and(fin, M##_and(F##_lt(F##_abs(ymin), big), F##_lt(F##_abs(ymax), big))); \
 		fin = M##_and(fin, F##_lt(F##_abs(zm), big)); \
@@ -4597,8 +4594,8 @@ PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, u
 	return 1;
 }
 
-/* 1 if every tile under box[0] .. box[8] x box[16] .. box[24] (i0, i1, j0, j1) has a base as near as zmax. Large
-   boxes try blocks first (bases only grow: a stale block minimum is a lower bound, retaken on failure). */
+/* 1 if every tile under box[0]..box[8] x box[16]..box[24] (i0, i1, j0, j1) has base as near as zmax. Large boxes try
+   blocks first (bases only grow: stale block minimum is lower bound, retaken on failure). */
 PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *box, float zmax) {
 	uint32_t tx0 = (uint32_t)box[0] >> PVS__TW_SHIFT, tx1 = (uint32_t)box[8] >> PVS__TW_SHIFT;
 	uint32_t ty0 = (uint32_t)box[16] >> PVS__TH_SHIFT, ty1 = (uint32_t)box[24] >> PVS__TH_SHIFT, bx, by;
@@ -4637,7 +4634,7 @@ PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tr
 	q[2] = ix ? ix[2] : 3 * t + 2;
 }
 
-/* Limits from a prefilter box (as pvs__pf_hidden's); 0 if hidden there. */
+/* Limits from prefilter box (as pvs__pf_hidden's); 0 if hidden there. */
 PVS__STATIC int pvs__tlim_box(pvs_raster *r, const int32_t *box, float zmax, pvs__tlim *lim) {
 	if (pvs__pf_hidden(r, box, zmax)) return 0;
 	lim->tx0 = box[0] >> PVS__TW_SHIFT, lim->tx1 = box[8] >> PVS__TW_SHIFT;
@@ -4645,7 +4642,7 @@ PVS__STATIC int pvs__tlim_box(pvs_raster *r, const int32_t *box, float zmax, pvs
 	return 1;
 }
 
-/* A triangle pvs_raster_bin kept: draw, triangle, prefilter's box, zmax; test: bit 0 tested, 1-2 cull + 1. */
+/* Triangle pvs_raster_bin kept: draw, triangle, prefilter's box, zmax; test: bit 0 tested, 1-2 cull + 1. */
 typedef struct pvs__qtri {
 	uint32_t draw, tri;
 	int32_t box[4];
@@ -4657,9 +4654,9 @@ typedef struct pvs__qtri {
 #define PVS__QFIRST(n, p) ((uint32_t)((uint64_t)(n) * (p) / PVS_RASTER_PARTS))
 #define PVS__QBAND(r, b) ((int32_t)((b) * (r)->bh / PVS_RASTER_PARTS) << PVS__BLOCK_SHIFT) /* 1st tile row */
 
-/* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene triangles tris) through prefilter, eight at a time
-   (AVX2 lanes, two halves of four, or scalar: the same bits); part < PVS_RASTER_PARTS: kept for bands, else drawn
-   unless hidden; PVS_RASTER_PARTS + 1: a mesh piece too, until full. Returns where it stopped. */
+/* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene triangles tris) through prefilter, 8 at once (AVX2
+   lanes, 2 halves of 4, or scalar: same bits); part < PVS_RASTER_PARTS: kept for bands, else drawn unless hidden;
+   PVS_RASTER_PARTS + 1: mesh piece too, until full. Returns where it stopped. */
 PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
 										   uint32_t stride, const uint32_t *indices, const pvs__occsel *tris,
 										   uint32_t t0, uint32_t t1, int cull, uint32_t draw, uint32_t part) {
@@ -4746,26 +4743,26 @@ PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, 
 
 /* ---- occluder meshes (Durand 2000 §3.3; contract: pvs_raster_mesh) ----
 
-   An edge is internal when (i) exactly two triangles of the piece share it (welded by index and position), (ii) both
-   have the same certain facing (sign of det(x, y, w) in clip space) and run it oppositely, (iii) an end is surely in
-   front of both clip planes, neither within rounding of one; other edges and clip-plane edges form the group's boundary
-   B. The boundary of the group's union U lies in B: along an internal edge the two triangles lie on opposite sides
-   (det(a, b, p) = gamma det(a, b, c), gamma > 0), each covering a half-disk by (iii); clipping vertices end clip edges;
-   at an original vertex with only internal edges the closed fans turn by positive multiples of 2 pi, covering a
-   neighbourhood by (iii). So a (connected) pixel surely meeting U that no B edge may meet (separating-axis tests with
-   margins) lies in U, no nearer than the least plane minimum or vertex depth of group polygons that may touch it.
-   Folds, back faces, non-manifold edges, bad winding, T-junctions and near-plane cuts only add boundary edges.
+   Edge internal when (i) exactly 2 triangles of piece share it (welded by index and position), (ii) both have same
+   certain facing (sign of det(x, y, w) in clip space) and run it oppositely, (iii) an end surely in front of both clip
+   planes, neither within rounding of one; other and clip-plane edges form group's boundary B. Boundary of group's union
+   U lies in B: along internal edge its 2 triangles lie on opposite sides (det(a, b, p) = gamma det(a, b, c), gamma >
+   0), each covering half-disk by (iii); clipping vertices end clip edges; at original vertex with only internal edges
+   closed fans turn by positive multiples of 2 pi, covering neighbourhood by (iii). So (connected) pixel surely meeting
+   U that no B edge may meet (separating-axis tests with margins) lies in U, no nearer than least plane minimum or
+   vertex depth of group polygons that may touch it. Folds, back faces, non-manifold edges, bad winding, T-junctions,
+   near-plane cuts only add boundary edges.
 
-   Two passes: triangles by ordinary occluder path, then mesh pass over strips where an edge may meet a pixel
-   (wider than first pass's float margins): a strip pixel no edge meets lies in one polygon surely meeting it, else
-   edges split it among polygons whose strips hold it. That needs per pixel only those polygons, with all their edges
-   there: so a piece takes the triangles the prefilter draws or (no whole pixel) finds unhidden one pixel wider (one
-   left out makes its shared edges boundary edges), leaves out polygons without internal edges and runs strips only
-   between the columns internal edges may meet. One code path (double; float depth in pixel loops). ---- */
+   Two passes: triangles by ordinary occluder path, then mesh pass over strips where edge may meet pixel (wider than
+   first pass's float margins): strip pixel no edge meets lies in one polygon surely meeting it, else edges split it
+   among polygons whose strips hold it. That needs per pixel only those polygons, with all their edges there: so piece
+   takes triangles prefilter draws or (no whole pixel) finds unhidden one pixel wider (one left out makes its shared
+   edges boundary edges), leaves out polygons without internal edges, runs strips only between columns internal edges
+   may meet. One code path (double; float depth in pixel loops). ---- */
 
 #define PVS__MESH_NONE 0xffffffffu
 #define PVS__MESH_MULTI 0xfffffffeu
-#define PVS__MESH_MAXV 5 /* triangle clipped by two planes */
+#define PVS__MESH_MAXV 5 /* triangle clipped by 2 planes */
 
 typedef struct pvs__mtri {
 	int32_t i0, i1, j0, j1; /* pixels it may meet, clamped (empty: i0 > i1 or j0 > j1) */
@@ -4776,7 +4773,7 @@ typedef struct pvs__mtri {
 	/* E = a x + b y + k >= 0 inside, |a| + |b| = 1 (0, 0: zero length); |E - exact| < e */
 	double a[PVS__MESH_MAXV], b[PVS__MESH_MAXV], k[PVS__MESH_MAXV], e[PVS__MESH_MAXV];
 	double xmin, xmax, ymin, ymax, dx; /* vertex error bound */
-	double wide; /* beyond first pass's rounding: what it misses by an edge is in strip */
+	double wide; /* beyond first pass's rounding: what it misses by edge is in strip */
 	float za, zb, zk, zclamp; /* at pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
 } pvs__mtri;
 
@@ -4820,7 +4817,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 	oy = (double)t->j0;
 	iw = pvs__dmax(0.0, (double)(t->i1 - t->i0));
 	jh = pvs__dmax(0.0, (double)(t->j1 - t->j0));
-	/* double rounding at pixel corners (X, Y <= mag + map size) is far below this */
+	/* double rounding at pixel corners (X, Y <= mag + map size) far below this */
 	noise = PVS__RASTER_ERR_D * (mag + (double)r->width + (double)r->height + 4.0);
 	for (i = 0; i < n; ++i) {
 		int j = i + 1 == n ? 0 : i + 1;
@@ -4836,7 +4833,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 		t->a[i] = a;
 		t->b[i] = b;
 		t->k[i] = -(a * t->x[i] + b * t->y[i]);
-		/* line through vertices off by dx (pvs__raster_poly's bound), plus evaluation */
+		/* line through vertices off by dx (pvs__raster_poly's bound), + evaluation */
 		t->e[i] = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) *
 					  (1.0 + (pvs__dabs(ox - t->x[i]) + pvs__dabs(oy - t->y[i]) + iw + jh + 2.0) / len) + noise;
 	}
@@ -4847,7 +4844,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 }
 
 /* Narrows columns [*lo, *hi] to a i + c >= t (double). outer: may keep failing columns, never drops passing ones; else
-   reverse. Bounds are checked against neighbours: with t's margin they hold for exact a i + c. */
+   reverse. Bounds checked against neighbours: with t's margin they hold for exact a i + c. */
 PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t *lo, int32_t *hi) {
 	int32_t i;
 	int s;
@@ -4881,8 +4878,8 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
 	}
 }
 
-/* Polygon t on row j of band jb, along its edges (between columns its internal edges may meet): over pixels an edge may
-   meet, its least depth bound; flag 1: surely meets pixel, 2: a boundary edge may. */
+/* Polygon t on row j of band jb, along its edges (between columns its internal edges may meet): over pixels edge may
+   meet, min depth bound; flag 1: surely meets pixel, 2: boundary edge may. */
 PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int32_t jb) {
 	const uint32_t W = r->width;
 	float *zm = r->mzmin + (size_t)(j - jb) * W;
@@ -4932,8 +4929,8 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
 	}
 }
 
-/* Writes band b's claimed pixels (flag 1 and a bound) to depth map or, tiled, per tile as a mask at the least claimed
-   depth; resets scratch. */
+/* Writes band b's claimed pixels (flag 1, a bound) to depth map or, tiled, per tile as mask at min claimed depth;
+   resets scratch. */
 PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b) {
 	const uint32_t W = r->width;
 	int32_t i, d, tx;
@@ -4963,8 +4960,8 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b) {
 		if (!r->tiled) continue;
 		tl = r->tile + (size_t)b * r->tw + (size_t)tx;
 		if (!any || !(zt > tl->z0)) continue;
-		/* unlike pvs__tile_merge, spare layer (edge pixels: few, often farther): union at farther depth if zt is
-		   no farther, tile fills or layer loses <= 1/8 of its lead; a new layer if none */
+		/* unlike pvs__tile_merge, spare layer (edge pixels: few, often farther): union at farther depth if zt no
+		   farther, tile fills or layer loses <= 1/8 of its lead; new layer if none */
 		{
 			uint32_t full = ~0u, have = 0;
 			for (d = 0; d < PVS__TH; ++d) {
@@ -4985,7 +4982,7 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b) {
 	}
 }
 
-/* Draws piece's polygons of facing g in bands of four rows, active list sorted by first band. */
+/* Draws piece's polygons of facing g in bands of 4 rows, active list sorted by first band. */
 PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
 	uint32_t *cnt = r->mband, *order = r->morder, *act = r->mact, t, m = 0, pos = 0, na = 0, b = 0, k, keep;
 	int32_t j;
@@ -5073,7 +5070,7 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
 	r->mgrp[t] = (int8_t)g;
 }
 
-/* Pairs half-edges by welded ends: r->mpart[he] = partner, PVS__MESH_NONE or PVS__MESH_MULTI (3 or more). */
+/* Pairs half-edges by welded ends: r->mpart[he] = partner, PVS__MESH_NONE or PVS__MESH_MULTI (3+). */
 PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
 	uint32_t t, k, h, *tab = r->mtab, *cid = r->mcid, *part = r->mpart;
 	for (h = 0; h < hs; ++h) tab[h] = 0;
@@ -5133,7 +5130,7 @@ PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
 	}
 }
 
-/* One mesh piece: triangles r->morder[0 .. r->mcn). */
+/* One mesh piece: triangles r->morder[0..r->mcn). */
 PVS__STATIC int pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
 								const pvs__occsel *tris) {
 	uint32_t hs = 16, t, h, n = r->mcn;
@@ -5300,7 +5297,7 @@ PVS_API pvs_result pvs_raster_mesh(pvs_raster *r, const float *positions, uint32
 	return pvs_raster_draw(r, &d);
 }
 
-/* A draw's pvs_raster.cull; 2 if bad (pvs_raster_draw's errors). */
+/* Draw's pvs_raster.cull; 2 if bad (pvs_raster_draw's errors). */
 PVS__STATIC int pvs__draw_cull(const pvs_raster *r, const pvs_raster_draw_desc *d) {
 	uint32_t f = d ? d->flags : 0, cull = f & (PVS_DRAW_CULL_CW | PVS_DRAW_CULL_CCW);
 	if (!r || !d || (!d->positions && d->triangle_count) || (d->stride && (d->stride < 12 || d->stride % 4)) ||
@@ -5380,11 +5377,11 @@ PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t
 	return r->depth;
 }
 
-/* ---- depth pyramid (Durand 2000 §2.4; Greene et al. 1993), queried top-down until a level decides (§6.1) ---- */
+/* ---- depth pyramid (Durand 2000 §2.4; Greene et al. 1993), queried top-down until level decides (§6.1) */
 
 /* One pyramid level (kernel of all pyramids): texel (x, y) gets min of smin (into dmin; both may be NULL) and max of
    smax (into dmax) over texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of pw x ph level below, clamped;
-   mx, my = 1 halve that axis. `simd` (SSE2, both halved) pairs differently: same but for +0/-0 ties (or NaN). */
+   mx, my = 1 halve that axis. `simd` (SSE2, both halved) pairs differently: same save +0/-0 ties (or NaN). */
 PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32_t pw, uint32_t ph, float *dmin,
 									float *dmax, uint32_t w, uint32_t h, uint32_t mx, uint32_t my, int simd) {
 	uint32_t x, y;
@@ -5397,7 +5394,7 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 		x = 0;
 #if defined(PVS__SSE2)
 		if (simd && mx && my)
-			for (; 2 * x + 8 <= pw; x += 4) { /* two rows, then even and odd columns */
+			for (; 2 * x + 8 <= pw; x += 4) { /* 2 rows, then even and odd columns */
 				__m128 v0, v1;
 				if (on) {
 					v0 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x), _mm_loadu_ps(n1 + 2 * x));
@@ -5426,8 +5423,8 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 	}
 }
 
-/* Tile pyramid: level 0 holds each tile's base and nearest value; levels above merge 1 x 2, 2 x 1 or 2 x 2 texels
-   (about square in pixels). */
+/* Tile pyramid: level 0: each tile's base and nearest value; levels above merge 1 x 2, 2 x 1 or 2 x 2 texels (~square
+   in pixels). */
 PVS__STATIC void pvs__tile_pyramid(pvs_raster *r) {
 	uint32_t l, n = r->tw * r->th, i;
 	float *lo = r->tlmin[0], *hi = r->tlmax[0];
@@ -5456,7 +5453,7 @@ PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
 	r->pyramid_valid = 1;
 }
 
-/* 1 if a level-0 pixel of [x0, x1] x [y0, y1] under texel (tx, ty) of level l stores a depth <= d. */
+/* 1 if level-0 pixel of [x0, x1] x [y0, y1] under texel (tx, ty) of level l stores depth <= d. */
 PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, int32_t x0, int32_t y0,
 									 int32_t x1, int32_t y1, float d) {
 	uint32_t w = r->lw[l];
@@ -5479,7 +5476,7 @@ PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t t
 	return 0;
 }
 
-/* pvs__pyramid_visible on tile pyramid; at a tile, layer mask decides exactly. px: pixels, tr: their tiles. */
+/* pvs__pyramid_visible on tile pyramid; at tile, layer mask decides exactly. px: pixels, tr: their tiles. */
 PVS__STATIC int pvs__tpyr_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *px,
 								  const uint32_t *tr, float d) {
 	uint32_t w = r->tlw[l], cx, cy, cx0, cx1, cy0, cy1;
@@ -5549,12 +5546,12 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
 	return 0;
 }
 
-/* ---- float box tests: eight corners in two SIMD registers, with error bounds. Clip coordinate c_r = m_r . (p, 1) errs
-   by at most 4.01 u S_r (u = 2^-24, S_r = (|m_r0| + |m_r1| + |m_r2|) max |p| + |m_r3|); E_r = 8 u S_r also covers
-   compared differences. A corner with w > 2 E_w has true w >= 3/4 of computed one, so x/w errs by at most 2/3 (E_x +
-   |x/w| E_w) / w plus division; per-box maxima widen rectangle, raise depth. S_r > 1e30: double path. ---- */
+/* ---- float box tests: 8 corners in 2 SIMD registers, with error bounds. Clip coordinate c_r = m_r . (p, 1) errs <=
+   4.01 u S_r (u = 2^-24, S_r = (|m_r0| + |m_r1| + |m_r2|) max |p| + |m_r3|); E_r = 8 u S_r also covers compared
+   differences. Corner with w > 2 E_w has true w >= 3/4 of computed one, so x/w errs <= 2/3 (E_x + |x/w| E_w) / w +
+   division; per-box maxima widen rectangle, raise depth. S_r > 1e30: double path. ---- */
 
-/* From corners, all in front: screen extremes, nearest depth, largest 1 / w, |x / w|, |y / w|, |z / w|. */
+/* From corners, all in front: screen extremes, nearest depth, max 1 / w, |x / w|, |y / w|, |z / w|. */
 typedef struct pvs__boxf {
 	float xmin, xmax, ymin, ymax, zmax, rmax, nx, ny, nz;
 } pvs__boxf;
@@ -5646,7 +5643,7 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 	rw0 = pvs__f4_div(pvs__f4_set1(1.0f), c0[3]);
 	rw1 = pvs__f4_div(pvs__f4_set1(1.0f), c1[3]);
 	o->rmax = pvs__f4_hmax2(rw1, rw0);
-#define PVS__AXIS(k, half, n, lo, hi) /* x / w (y / w): largest |.|, then pixels */ \
+#define PVS__AXIS(k, half, n, lo, hi) /* x / w (y / w): max |.|, then pixels */ \
 	do { \
 		v0 = pvs__f4_mul(c0[k], rw0); \
 		v1 = pvs__f4_mul(c1[k], rw1); \
@@ -5668,7 +5665,7 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 }
 #endif
 
-/* Double to a float >= it, no libm: margins (v >= 0); any finite v (rounded down: up one step; |f| 2^-23 plus least
+/* Double to float >= it, no libm: margins (v >= 0); any finite v (rounded down: up one step; |f| 2^-23 + least
    subnormal covers gap). */
 PVS__STATIC float pvs__f_up_pos(double v) { return (float)(v * (1.0 + 4.76837158203125e-07) + 1e-37); }
 PVS__STATIC float pvs__f_up_fast(double v) {
@@ -5684,7 +5681,7 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
 	double pm = 0.0, e[4], ex, ey, ez, hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
 	int k, res, nan = 0;
 	float pf = 0.0f;
-#if defined(PVS__SSE2) /* largest |coordinate| (exact; min, max: six floats in a row) */
+#if defined(PVS__SSE2) /* max |coordinate| (exact; min, max: 6 floats in row) */
 	{
 		__m128 a = _mm_loadu_ps(b->min), c = _mm_loadu_ps(b->min + 2);
 		nan = _mm_movemask_ps(_mm_or_ps(_mm_cmpunord_ps(a, a), _mm_cmpunord_ps(c, c)));
@@ -5766,7 +5763,7 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 	}
 	if (behind_near == 8 || behind_w == 8) return 0;
 	{
-		/* wholly outside a side plane (-w <= x, y <= w): off screen, whatever its w */
+		/* wholly outside side plane (-w <= x, y <= w): off screen, whatever its w */
 		int side;
 		for (side = 0; side < 4; ++side) {
 			int out = 0, ax = side >> 1;
@@ -5815,7 +5812,7 @@ PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
 	return pvs_raster_classify_box(r, b) == PVS_BOX_VISIBLE;
 }
 
-/* ---- context ---- */
+/* ---- context */
 
 /* Context's buffers (pvs__buf) of `groups` (bits): 1 pixels, 2 tiles, 4 occluder selection, 8 meshes, 16 scene
    sweeps, 32 cull map, 64 its items; sized by fields set before each group. */
@@ -5883,7 +5880,7 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
 	pvs__free(&a, r, sizeof(*r), 16);
 }
 
-/* Cull map cell range of a box (clamped); 0 unless wholly inside region. */
+/* Cull map cell range of box (clamped); 0 unless wholly inside region. */
 PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int32_t *i0, int32_t *j0, int32_t *i1,
 							  int32_t *j1) {
 	int u, v;
@@ -5905,8 +5902,8 @@ PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int
 		b->max[v] <= r->region[3];
 }
 
-/* Per-pixel map, 8 x 8 tile minima, pyramid (Durand 2000 §2.4: levels halve to 1 x 1; min and max planes). 0: out of
-   memory; pvs_raster_destroy frees the rest (also below). */
+/* Per-pixel map, 8 x 8 tile minima, pyramid (Durand 2000 §2.4: levels halve to 1 x 1; min, max planes). 0: OOM;
+   pvs_raster_destroy frees rest (also below). */
 PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
 	uint32_t l, w, h;
 	size_t floats = 0;
@@ -5935,7 +5932,7 @@ PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
 	return 1;
 }
 
-/* Tiles, their 8 x 8 blocks, tile pyramid (levels halve x, y or both; texels about square in pixels). */
+/* Tiles, their 8 x 8 blocks, tile pyramid (levels halve x, y or both; texels ~square in pixels). */
 PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 	uint32_t l, w, h;
 	size_t floats;
@@ -5974,7 +5971,7 @@ PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 	return 1;
 }
 
-/* Mesh scratch for pieces of `max_triangles` (0: default; at most 2^24); hash load <= 1/2. */
+/* Mesh scratch for pieces of `max_triangles` (0: default; <= 2^24); hash load <= 1/2. */
 PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 	size_t i;
 	r->mesh_cap = !max_triangles ? 4096u : max_triangles < 8 ? 8 : max_triangles;
@@ -6117,7 +6114,7 @@ oom:
 	return PVS__OOM(err, "raster buffers");
 }
 
-/* ---- occluder selection (Bittner 2002 §4.5) ---- */
+/* ---- occluder selection (Bittner 2002 §4.5) */
 
 typedef struct pvs__selctx {
 	pvs_raster *r;
@@ -6144,8 +6141,8 @@ PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, flo
 	pvs__selctx *c = (pvs__selctx *)user;
 	uint32_t i;
 	if (distance > c->max_dist) return PVS_VISIT_STOP;
-	/* heap full, nothing unseen can enter: an unseen triangle's centre lies beyond `distance` (every leaf its box
-	   overlaps lists it), so scores at most area / distance^2 (rounded up) */
+	/* heap full, nothing unseen can enter: unseen triangle's centre lies beyond `distance` (every leaf its box overlaps
+	   lists it), so scores <= area / distance^2 (rounded up) */
 	if (c->n == c->k && distance > 0.0f &&
 		c->s->max_triangle_area * 1.0001 / ((double)distance * distance * 0.9999) < (double)c->r->occ[0].score)
 		return PVS_VISIT_STOP;
@@ -6179,7 +6176,7 @@ PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, flo
 	return PVS_VISIT_DESCEND;
 }
 
-/* ---- per-frame culling ---- */
+/* ---- per-frame culling */
 
 typedef struct pvs__cullctx {
 	pvs_raster *r;
@@ -6231,15 +6228,15 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
 	return PVS_OK;
 }
 
-/* p->occluder_distance, or (p NULL or 0) a tenth of scene's longest side: culling in any unit */
+/* p->occluder_distance, or (p NULL or 0) 1/10 of scene's longest side: culling in any unit */
 PVS__STATIC float pvs__cull_distance(const pvs_scene *s, const pvs_cull_params *p) {
 	const pvs_box *b = &s->bounds;
 	double e = pvs__dmax(b->max[0] - b->min[0], pvs__dmax(b->max[1] - b->min[1], b->max[2] - b->min[2]));
 	return p && p->occluder_distance > 0.0f ? p->occluder_distance : e > 0.0 ? (float)(0.1 * e) : 1.0f;
 }
 
-/* Draws up to p->scene_occluders triangles within p->occluder_distance, best first by Bittner 2002 §4.5's measure;
-   meshes with PVS_CULL_SCENE_MESH. Returns count. */
+/* Draws <= p->scene_occluders triangles within p->occluder_distance, best first by Bittner 2002 §4.5's measure; meshes
+   with PVS_CULL_SCENE_MESH. Returns count. */
 PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
 											   const pvs_cull_params *p) {
 	pvs__selctx sc;
@@ -6338,7 +6335,7 @@ PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const 
 	return drawn;
 }
 
-/* p with its defaults in q: scene_occluders 0 without PVS_CULL_FRUSTUM_ONLY is 64 */
+/* p with defaults in q: scene_occluders 0 without PVS_CULL_FRUSTUM_ONLY is 64 */
 PVS__STATIC const pvs_cull_params *pvs__cull_defaults(const pvs_cull_params *p, pvs_cull_params *q) {
 	if (!p || p->scene_occluders || (p->occluder_flags & PVS_CULL_FRUSTUM_ONLY)) return p;
 	*q = *p;
@@ -6374,14 +6371,14 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
 	cc.visible = visible;
 	cc.candidates = p ? p->candidates : NULL;
 	PVS__FOR3(k) src.min[k] = src.max[k] = cam->eye[k];
-	/* Bittner 2002 §3.2: front to back; a hidden node culls its subtree */
+	/* Bittner 2002 §3.2: front to back; hidden node culls subtree */
 	pvs_kdtree_sweep(s->object_tree, &src, r->sweep, r->sweep_size, pvs__cull_visit, &cc);
 	if (stats) *stats = cc.st;
 	pvs__ok(err);
 	return PVS_OK;
 }
 
-/* ---- cull map (Wonka & Schmalstieg 1999) ---- */
+/* ---- cull map (Wonka & Schmalstieg 1999) */
 
 /* Ground polygon x, y (scene units, overwritten) at heights z into cull map, inner coverage (§4.4). */
 PVS__STATIC void pvs__cm_draw(pvs_raster *r, double *x, double *y, const double *z, int n, int simd) {
@@ -6437,8 +6434,8 @@ PVS__STATIC double pvs__cm_height(const double pl[3], double ou, double ov, doub
 
 /* Seam at v between casting facades p-v, v-q: sampling correction shrinks both shadows, uncovering cells along shadow
    ray through v (Wonka 1999 §5). Wedge between rays through a' on p-v and b' on v-q (~2 cells from v), beyond a'-v-b',
-   lies in union, at height A on A's side of ray, B on B's. A - B changes sign across it: A is a lower bound if A >= B
-   on A's side (ridge), else least corner value of concave min(A, B). */
+   lies in union, at height A on A's side of ray, B on B's. A - B changes sign across it: A is lower bound if A >= B on
+   A's side (ridge), else min corner value of concave min(A, B). */
 PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf,
 							  const float *qf, double top, int simd) {
 	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
@@ -6486,7 +6483,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *b, int closed, double area2,
 							  double min_dist) {
 	if (closed) {
-		/* outward: right of a->b for a CCW footprint */
+		/* outward: right of a->b for CCW footprint */
 		double nx = (double)b[1] - a[1], ny = -((double)b[0] - a[0]);
 		if (area2 < 0) { nx = -nx; ny = -ny; }
 		if (!((eye[0] - a[0]) * nx + (eye[1] - a[1]) * ny > 0.0)) return 0;
@@ -6614,11 +6611,11 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 		return PVS__BAD_ARG(err, "facades must not be NULL");
 	PVS__ZERO(st);
 	if (cam->fov_y > 0.0f) {
-		/* facades nearer than near plane (at frustum's widest angle) are clipped: hide nothing */
+		/* facades nearer than near plane (at frustum's widest angle) clipped: hide nothing */
 		double ty = tan(0.5 * (double)cam->fov_y), tx = ty * (double)r->width / (double)r->height;
 		pvs__cull_map_build(r, cam->eye, p ? p->facades : NULL, p ? p->facade_count : 0, p ? p->cull_map_flags : 0,
 							(double)cam->near_plane * sqrt(1.0 + tx * tx + ty * ty) * (1.0 + 1e-6));
-	} else { /* shadows are cast from a point: ortho gets frustum test only */
+	} else { /* shadows cast from point: ortho gets frustum test only */
 		for (c = 0; c < (size_t)r->cm_w * r->cm_h; ++c) r->cm[c] = PVS_DEPTH_EMPTY;
 	}
 	pvs_raster_clear(r); /* frustum test sees empty depth map */
@@ -6661,8 +6658,8 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 
    Conservative rounding: exact planes through stored points bound regions (in-leaf claims no line outside its blocker);
    insertion's tolerance drops only blocked slivers; read-only tests split with slack (both sides see more); ambiguous
-   depth orders count as visible. Double geometry, cell-centred. Users: pvs_visibility_2d (exact, ch. 6),
-   pvs_visibility_25d (c-LSS, ch. 7), OTREE bake; pvs_otree_cull (ch. 4) has own 3D kernel. */
+   depth orders: visible. Double geometry, cell-centred. Users: pvs_visibility_2d (exact, ch. 6), pvs_visibility_25d
+   (c-LSS, ch. 7), OTREE bake; pvs_otree_cull (ch. 4) has own 3D kernel. */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT25_WITNESSES 16
@@ -6684,7 +6681,7 @@ typedef struct pvs__otnode {
 	int32_t sign;
 	uint32_t kind; /* 0 inner, PVS__OT_OUT, PVS__OT_IN */
 	uint32_t child[2];	/* [0] negative, [1] positive side */
-	uint32_t first, count; /* in-leaf payload: seq[first .. first + count) */
+	uint32_t first, count; /* in-leaf payload: seq[first..first + count) */
 	uint32_t parent;	/* PVS__OT_NONE: root */
 	double mvd; /* 2D: subtree's max visibility distance (§6.5.5); DBL_MAX over out-leaves */
 	double mr, ms; /* 2.5D: hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
@@ -6764,7 +6761,7 @@ PVS__STATIC void pvs__ot_copy(pvs__otpoly *d, const pvs__otpoly *s) {
 	}
 }
 
-/* Room for `need` items in all four arrays; new slots numbered. */
+/* Room for `need` items in all 4 arrays; new slots numbered. */
 PVS__STATIC int pvs__ot_reserve(pvs__otree *t, size_t need) {
 	size_t c1 = t->stack_cap, c2 = t->stack_cap, c3 = t->stack_cap, c4 = t->stack_cap, i;
 	if (need <= t->stack_cap) return 1;
@@ -6800,7 +6797,7 @@ PVS__STATIC uint32_t pvs__ot_pop(pvs__otree *t, pvs__otpoly *q) {
 	return t->stack_node[t->stack_count];
 }
 
-/* ---- line-space kernel (§6.4, §6.8) ---- */
+/* ---- line-space kernel (§6.4, §6.8) */
 
 /* Oriented line u -> v = (u,1) x (v,1), normalised; 0 if u == v. */
 PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3]) {
@@ -6877,7 +6874,7 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	return m;
 }
 /* 2.5D witness lines: read-only test reaching out-leaf keeps line in its polygon (normalised vertex sum); out-leaves
-   only become in-leaves: a witness later in an in-leaf is dropped. */
+   only become in-leaves: witness later in in-leaf dropped. */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	double w[3] = {0, 0, 0}, len;
 	int i;
@@ -6947,7 +6944,7 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		PVS__FOR3(i) nf[i] = -nd->n[i];
 		na = h1 ? 0 : pvs__ot_clip_n(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
 		nb = h0 ? 0 : pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 2));
-		/* items top..: c1's part, then c0's, as two pushes; unused slots above (still permutation) */
+		/* items top..: c1's part, then c0's, as 2 pushes; unused slots above (still permutation) */
 		s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
 		if (na >= 3) { t->stack_slot[m] = s1; t->stack_node[m] = c1; t->stack_pend[m] = PVS__OT_NONE; ++m; }
 		if (nb >= 3) { t->stack_slot[m] = s2; t->stack_node[m] = c0; t->stack_pend[m] = PVS__OT_NONE; ++m; }
@@ -7160,7 +7157,7 @@ PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
 	return 1;
 }
 
-/* Crossing X of two segments' lines; 0 if parallel. */
+/* Crossing X of 2 segments' lines; 0 if parallel. */
 PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 	double d1x = s[2] - s[0], d1y = s[3] - s[1], d2x = r[2] - r[0], d2y = r[3] - r[1];
 	double den = d1x * d2y - d1y * d2x, u;
@@ -7224,7 +7221,7 @@ PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otp
 	return node;
 }
 
-/* Gives leaf `node` payload seq[old_first .. + old_count), then `add`. */
+/* Gives leaf `node` payload seq[old_first..+old_count), then `add`. */
 PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count,
 									uint32_t add) {
 	size_t first = t->seq_count;
@@ -7239,9 +7236,9 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
 	return 1;
 }
 
-/* ---- 2D from-region (ch. 6): insertion with §6.5.1's four depth cases ---- */
+/* ---- 2D from-region (ch. 6): insertion with §6.5.1's 4 depth cases */
 
-/* §6.5.1 case 3: q split at crossing X = x (marked so), pushed at `node` as two halves. 0: OOM. */
+/* §6.5.1 case 3: q split at crossing X = x (marked so), pushed at `node` as 2 halves. 0: OOM. */
 PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, const double x[2]) {
 	pvs__otpoly part;
 	double n[3];
@@ -7294,8 +7291,8 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 	t->stack_count = base;
 }
 
-/* Thickness: least over edges of largest vertex distance from edge's plane. Insertion leaves ~1e-12 slivers where it
-   rounded; thinner than PVS__OT_SLIVER (radians at unit distance) is below method's resolution. */
+/* Thickness: min over edges of max vertex distance from edge's plane. Insertion leaves ~1e-12 slivers where it rounded;
+   thinner than PVS__OT_SLIVER (radians at unit distance) is below method's resolution. */
 #define PVS__OT_SLIVER 1e-10
 PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 	double th = DBL_MAX;
@@ -7315,7 +7312,7 @@ PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 								const double *e, const double *box);
 
-/* ---- shared driver pieces ---- */
+/* ---- shared driver pieces */
 
 /* Clips segment s to open half-plane right of a -> b (outside CCW edge); 0: empty; *on_line: end moved onto line (1
    first, 2 second). */
@@ -7337,8 +7334,8 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 	return !(out[0] == out[2] && out[1] == out[3]);
 }
 
-/* Blockers of source edge a -> b (lines leaving to its right) and clipped segment o: one, or two if o's line crosses
-   edge at x (Fig. 6.5). Returns count; *degenerate: non-empty line set unrepresentable. */
+/* Blockers of source edge a -> b (lines leaving to its right) and clipped segment o: 1, or 2 if o's line crosses edge
+   at x (Fig. 6.5). Returns count; *degenerate: non-empty line set unrepresentable. */
 PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
 								 pvs__otpoly out[2], int *degenerate) {
 	double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
@@ -7412,7 +7409,7 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 }
 
 /* Max visibility distances (§6.5.5), bottom-up, backward pass (children follow parents): out-leaves unbounded,
-   in-leaves stored occluder's max distance to cell point (any line at most that far from cell exit). */
+   in-leaves stored occluder's max distance to cell point (any line <= that far from cell exit). */
 PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
 	size_t i;
 	for (i = t->node_count; i-- > 0;) {
@@ -7445,7 +7442,7 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 	return sqrt(best);
 }
 
-/* ---- 2D from-region API (ch. 6) ---- */
+/* ---- 2D from-region API (ch. 6) */
 
 /* Cell polygon `in` (n >= 3 vertices) centred at vertex mean (*cx, *cy), made CCW, into `cell` (2 n doubles). PVS_OK,
    or BAD_CELL (in err) if no area or not convex. */
@@ -7502,8 +7499,8 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 }
 
 /* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert (occluder crossing cell
-   visible anyway; its outside parts still block). test 1, exact re-test: 1 if it meets cell, is a point, is degenerate
-   from cell edge, or line from edge reaches it past occluders. */
+   visible anyway; its outside parts still block). test 1, exact re-test: 1 if it meets cell, is point, degenerate from
+   cell edge, or line from edge reaches it past occluders. */
 PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
 								 double near, int test) {
 	uint32_t k;
@@ -7617,7 +7614,7 @@ done:
 	return r;
 }
 
-/* ---- facades: scene's vertical walls as 2.5D occluders (§7.1, c-LSS's input) ---- */
+/* ---- facades: scene's vertical walls as 2.5D occluders (§7.1, c-LSS's input) */
 
 /* Facade extraction, any tessellation (T-junction splits, strips, fans; floors at several heights):
    1. vertical triangles grouped by ground line (direction, then offset, within tol), minus members farther than tol
@@ -7627,7 +7624,7 @@ done:
 	  [min_j max(lo_j), max_j min(hi_j)] (member bounds at ends) over whole slab;
    3. adjacent slabs with equal intervals (within tol) make facade: segment, heights [bottom, top] it fully covers.
    Conservative up to cracks and offsets of tol (8 float epsilons of scene's coordinates: T-junction cracks); heights
-   round inward, ends are vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into new *out (allocator a,
+   round inward, ends: vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into new *out (allocator a,
    *out_floats floats), *vertical: vertical triangles; OOM leaves *out NULL. */
 #define PVS__FX_MAX_COVER 512 /* slabs under more triangles left out (conservative) */
 #define PVS__OT25_LEVELS 8 /* facade base heights OTREE tells apart (pvs__otree_prepare) */
@@ -7681,10 +7678,10 @@ typedef struct pvs__fxwork {
 	const pvs_allocator *a;
 	int u, v, up;
 	double tol;
-	pvs__key_index *so; /* 3 nv: line members by least s, then vertices by s */
+	pvs__key_index *so; /* 3 nv: line members by min s, then vertices by s */
 	double *sv; /* 14 nv: per member s[3], h[3], smin, smax, ground[3][2] */
 	double *sec; /* 4 PVS__FX_MAX_COVER: per slab member lo(sa), lo(sb), hi(sa), hi(sb) */
-	uint32_t *ins, *act;	/* nv: members by least s; members over slab */
+	uint32_t *ins, *act;	/* nv: members by min s; members over slab */
 	uint32_t *comp, *que;	/* PVS__FX_MAX_COVER + 1: connected set per slab member; its queue */
 	pvs__fxopen *opn, *nxt; /* PVS__FX_MAX_COVER + 1: facades open at slab start; those it continues */
 	uint32_t nopen;
@@ -7924,7 +7921,7 @@ done:
 	return r;
 }
 
-/* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
+/* ---- 2.5D from-region, c-LSS (ch. 7) */
 
 /* Proving hidden things hidden dominates cost (shortcuts: tests/BENCHMARKS.md, otree). */
 
@@ -7933,20 +7930,20 @@ done:
 /* kD nodes with fewer item references untested (cf. §4.12.1: none below 50 polygons) */
 #define PVS__OT25_TEST_MIN 48
 
-/* Hidden-height bound (§6.5.5's max visibility distance, valid in 2.5D where occluders are seen over): in-leaf's lines
+/* Hidden-height bound (§6.5.5's max visibility distance, valid in 2.5D where occluders seen over): in-leaf's lines
    cross every member j. Ray on one from eye p <= H = t->eye high passing over j (top h_j > H) rises at slope >= s =
-   (h_j - H) / reach_j (|pc| <= reach_j at crossing c): points >= n > reach_j from cell, lower than H + s n, are hidden.
-   Leaves keep steepest member (mr = reach, ms = s), inner nodes children's largest reach, least slope; none (DBL_MAX)
-   over out-leaves and members no taller than eyes. */
+   (h_j - H) / reach_j (|pc| <= reach_j at crossing c): points >= n > reach_j from cell, lower than H + s n, hidden.
+   Leaves keep steepest member (mr = reach, ms = s), inner nodes children's max reach, min slope; none (DBL_MAX) over
+   out-leaves and members no taller than eyes. */
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	(void)t;
 	if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join) */
 	nd->mr = nd->ml = DBL_MAX;
 	nd->ms = nd->mls = 0.0;
 }
-/* Member k joins in-leaf `node`, whose lines cross k within [f0, f1] only: reach there (cell corner to end of that
-   part) <= jd[8], slope >= jd[9]. Leaf keeps steepest member (mr, ms), least-reach one (ml, mls), valid for later
-   splits' parts too. */
+/* Member k joins in-leaf `node`, whose lines cross k within [f0, f1] only: reach there (cell corner to that part's end)
+   <= jd[8], slope >= jd[9]. Leaf keeps steepest member (mr, ms), least-reach one (ml, mls), valid for later splits'
+   parts too. */
 PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
 	const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
 	pvs__otnode *nd = t->nodes + node;
@@ -8018,10 +8015,10 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 }
 
 /* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from eyes
-   at height H = t->eye anywhere over cell (§7.1: falling ray is seen at least as well from its 2D line's cell exit,
+   at height H = t->eye anywhere over cell (§7.1: falling ray seen at least as well from its 2D line's cell exit,
    rising one from its entry; both on top edges): open interval (u0, u1) on e where all such rays pass below j's top.
-   For eye p, q is below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D: signed distance to j's line (> 0 on source side);
-   monotone in D(p), so corners' extreme D (clamped at 0: eyes behind j's line do not look over it) cover all eyes
+   For eye p, q below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D: signed distance to j's line (> 0 on source side);
+   monotone in D(p), so corners' extreme D (clamped at 0: eyes behind j's line never look over it) cover all eyes
    (thesis's pi_o / pi_s over whole cell): one tree per edge serves both. 0 if empty. */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
 								double *u1) {
@@ -8156,7 +8153,7 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
    (tests/BENCHMARKS.md, otree). */
 #define PVS__OT25_SPLIT_MIN 16
 
-/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an in-leaf funnel test clips
+/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at in-leaf funnel test clips
    k's top edge by front members' extended umbrae; if part stays visible leaf gets k, split (from PVS__OT25_SPLIT_MIN
    members) in <= 3: primary funnel (rays through visible part): members, k; others: members. */
 PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
@@ -8208,7 +8205,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 	t->stack_count = base;
 }
 
-/* Kind of leaf holding unit line w (descending with w alone); 0 if w within 1e-9 of plane on its path or outside lines
+/* Kind of leaf holding unit line w (descending with w alone); 0 if w within 1e-9 of plane on path or outside lines
    leaving via source edge. */
 PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	uint32_t node = 0;
@@ -8225,7 +8222,7 @@ PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 }
 
 /* Early exit of pvs__ot25_box_visible (§3.3.4): 1 if witness line still in out-leaf crosses box bx's interior (wholly
-   beyond source edge a -> b): it leaves via source edge, meets no occluder, then two box sides, one tested by
+   beyond source edge a -> b): it leaves via source edge, meets no occluder, then 2 box sides, one tested by
    box_visible, reaching that out-leaf. Margins of 1e-6 of scene size absorb rounding; 0: full test. */
 PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const double a[2], const double b[2]) {
 	double nx = a[1] - b[1], ny = b[0] - a[0], mg = 1e3 * t->len_eps, near;
@@ -8326,8 +8323,8 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 	if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
 	/* Box taller than eyes is seen, if at all, along rising ray, best where its 2D line enters it; lower one along
 	   falling ray, where it leaves (farther point at equal height is higher over every occluder in front; members
-	   crossing box ignored by pvs__ot25_open). No line enters via box edge facing away from source or leaves via the
-	   one facing it (edges 0..3: -v, +u, +v, -u): entry (exit) edge first, likeliest seen, then sides. */
+	   crossing box ignored by pvs__ot25_open). No line enters via box edge facing away from source or leaves via one
+	   facing it (edges 0..3: -v, +u, +v, -u): entry (exit) edge first, likeliest seen, then sides. */
 	if (fabs(nx) > fabs(ny)) far_edge = nx > 0 ? 1 : 3;
 	else far_edge = ny > 0 ? 2 : 0;
 	order[0] = top > t->eye ? (far_edge + 2) & 3 : far_edge;
@@ -8489,7 +8486,7 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
 
 /* 2.5D input relative to cell centre (cx, cy): facade segments into all (4 doubles), objects into box (u0 v0 u1 v1
    top), cell rectangle grown by *margin into cell (4 CCW corners; larger cell sees more: conservative, never
-   degenerate). Returns facades' largest |coordinate|, >= 1. */
+   degenerate). Returns facades' max |coordinate|, >= 1. */
 PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
 								   double cell[8], double *margin) {
 	double ext = 1.0, hx, hy;
@@ -8513,7 +8510,7 @@ PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double c
 
 /* Root region of fresh tree for source edge a-b (cell centred at origin): lines crossing edge, bounded by its ends'
    planes (blocker edges on them then marked, §4.10.1, not re-added per branch), then pvs__ot25_presplit. Lines missing
-   edge are never queried. OOM sets t->oom. */
+   edge never queried. OOM sets t->oom. */
 PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double a[2], const double b[2]) {
 	double m[2], m2[2], l[3], sa_, sb_;
 	uint32_t pos;
@@ -8722,14 +8719,14 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 	}
 }
 
-/* ---- from-point culling: shadow-volume occlusion tree (ch. 4) ---- */
+/* ---- from-point culling: shadow-volume occlusion tree (ch. 4) */
 
 /* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes through eye (unit normal);
    in-leaf: fragment blocking its ray pyramid. Edge marks: §4.10.1. Conservative: in-leaf region meets exact stored
    planes, so all its rays meet occluder; insertion may drop slivers below tol, never claim more. Tests widen: box
    descends all sides within `tol` (1e-10 x eye-relative scene size, >> unit-normal dot error), is behind fragment or
-   outside its pyramid only beyond fragment's tol. Box tests take each plane at sign-picked corner, same ops for all
-   boxes, so are monotone: hidden node's child never tests visible; hierarchy updating is exact (§4.11.4). */
+   outside its pyramid only beyond fragment's tol. Box tests: each plane at sign-picked corner, same ops for all boxes,
+   so monotone: hidden node's child never tests visible; hierarchy updating exact (§4.11.4). */
 
 #define PVS__SV_MAXV 16
 #define PVS__SV_STACK 256
@@ -9152,7 +9149,7 @@ PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 	return r == PVS__SV_I ? r : cross ? PVS__SV_P : r;
 }
 
-/* ---- occluder selection (§4.5) ---- */
+/* ---- occluder selection (§4.5) */
 
 /* pvs__topk_offer order by key: root = weakest kept. */
 PVS__STATIC int pvs__svsel_better(const void *a, const void *b) {
@@ -9237,7 +9234,7 @@ PVS__STATIC pvs_visit pvs__sv_boot_visit(void *user, const pvs_box *node_box, fl
 	return PVS_VISIT_DESCEND;
 }
 
-/* ---- kD-tree walk with hierarchy updating (§4.11.4, Fig. 4.5) ---- */
+/* ---- kD-tree walk with hierarchy updating (§4.11.4, Fig. 4.5) */
 
 PVS__STATIC void pvs__sv_touch(pvs_otree *o, uint32_t obj, uint8_t flag) {
 	if (!o->obj_flag[obj]) o->touched[o->touched_count++] = obj;
@@ -9314,7 +9311,7 @@ PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 	}
 }
 
-/* ---- context and per-frame API ---- */
+/* ---- context and per-frame API */
 
 PVS__STATIC int pvs__sv_bufs(pvs_otree *o, pvs__buf *b) {
 	int k = 0;
@@ -9618,7 +9615,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 	return PVS_OK;
 }
 
-/* ---- OTREE bake method (row of >>bake's table) ---- */
+/* ---- OTREE bake method (>>bake's table row) */
 
 typedef struct pvs__otree_bake {
 	pvs_allocator allocator;
@@ -9633,8 +9630,8 @@ typedef struct pvs__otree_bake {
 } pvs__otree_bake;
 
 /* c-LSS (§7.1) facades from scene walls (pvs__facades_extract), standing on ground (ray over one's 2D line passes only
-   above its top); ray height being linear, facade of base b serves rays with both ends >= b: cell bottom c to object
-   bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (facade joins lowest at or above its base:
+   above its top); ray height linear, facade of base b serves rays with both ends >= b: cell bottom c to object bottom o
+   needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (facade joins lowest at or above its base:
    conservative); level k's kD-tree holds objects and facades of levels <= k. */
 PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells,
 										  uint32_t cell_count) {
@@ -9909,7 +9906,7 @@ typedef struct pvs__vx_cols {
 /* Tight-box BVH over drawable objects or chains, each in one leaf. */
 typedef struct pvs__obvh_node {
 	pvs_box box;
-	uint32_t first, count; /* leaf: items[first .. first + count); inner: count 0, children first, first + 1 */
+	uint32_t first, count; /* leaf: items[first..first + count); inner: count 0, children first, first + 1 */
 	uint32_t parent;
 } pvs__obvh_node;
 typedef struct pvs__obvh {
@@ -10058,7 +10055,7 @@ PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
 	return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
 }
 
-/* BVH of boxes[0 .. count) (keep NULL: all, else kept): median splits on centres' longest axis, leaves <= 4. */
+/* BVH of boxes[0..count) (keep NULL: all, else kept): median splits on centres' longest axis, leaves <= 4. */
 PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count,
 									   const uint8_t *keep, pvs__obvh *h) {
 	uint32_t i, n = 0, *stack = NULL, sp = 0;
@@ -10326,16 +10323,16 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
 /* ---- certified solid: crossing parity floods per edge-connected component ----
 
    Conservative: for triangles K and x above ground level g, w(x) = parity of K's triangles crossed by x's upward ray.
-   If K's edges have even use counts (except at up = g: no sight line between points above g dips below), w is constant
-   on each connected piece of space minus K; odd (open) edge flips w across vertical sheet below it. Voxel: pure if no K
+   If K's edges have even use (except at up = g: no sight line between points above g dips below), w constant on each
+   connected piece of space minus K; odd (open) edge flips w across vertical sheet below it. Voxel: pure if no K
    triangle or sheet within margin m (one w), mixed if only triangle (nodes w = 0, 1: joining equal-w parts
-   over-approximates connectivity), bad if sheet (one node). Free space is open, so path avoiding K crosses voxels via
+   over-approximates connectivity), bad if sheet (one node). Free space open, so path avoiding K crosses voxels via
    faces only, carrying face point's w: graph linking face neighbours' equal-w nodes (any node of bad voxel) holds all
    such paths; outside K's voxel box (sheets end at g, inside it) is one w = 0 region. Flood from voxels meeting a cell,
-   and from outside if a cell leaves box, reaches all a viewer can walk to without touching K: pure voxel it misses is
-   seen from no cell, so sight lines through it meet triangle first. Solid for some triangles is solid for all:
-   components flood alone (overlapping meshes keep parity). w read per column on vertical line with certain orientation
-   signs (pvs__vx_cross). Slits, doors narrower than voxel give mixed or bad voxels, joining both sides. */
+   and from outside if one leaves box, reaches all a viewer can walk to without touching K: pure voxel it misses is seen
+   from no cell, so sight lines through it meet triangle first. Solid for some triangles is solid for all: components
+   flood alone (overlapping meshes keep parity). w read per column on vertical line with certain orientation signs
+   (pvs__vx_cross). Slits, doors narrower than voxel give mixed or bad voxels, joining both sides. */
 
 /* orient2d (b - a) x (p - a); *bound bounds its rounding (each difference, product rounded once: <= 4.5e-16 (|t1| +
    |t2|)): sign certain if |value| > *bound. No underflow for floats. */
@@ -10371,7 +10368,7 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 	if (pos && neg) return 0;
 	if (unsure) return -1;
 	/* inside: barycentric weights |o| (o[1], o[2], o[0] for a, b, c), each within relative error r: weighted mean
-	   height errs by <= range 2r / (1 - r) */
+	   height errs <= range 2r / (1 - r) */
 	PVS__FOR3(i) r = pvs__dmax(r, bd[i] / pvs__dabs(o[i]));
 	if (r >= 0.25) return -1;
 	w0 = pvs__dabs(o[1]); w1 = pvs__dabs(o[2]); w2 = pvs__dabs(o[0]);
@@ -10412,7 +10409,7 @@ PVS__STATIC int pvs__vx_edge_cmp(const void *x, const void *y) {
 }
 
 typedef struct pvs__vx_topo {
-	uint32_t *tris; /* triangles by component: comp_first[c] .. comp_first[c + 1] */
+	uint32_t *tris; /* triangles by component: comp_first[c]..comp_first[c + 1] */
 	uint32_t *comp_first; /* comp_count + 1 */
 	uint32_t comp_count;
 	uint32_t *open_first; /* comp_count + 1: open_edges range per component */
@@ -10931,7 +10928,7 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
 }
 
 /* Step 4's w of cell cb (box voxels r0..r1): -1 (all nodes) if cb + m meets K; else 0 with out_w0 (leaves box above
-   ground); else pure voxel's it overlaps by over m, or its own ray's. */
+   ground); else pure voxel's it overlaps by over m, or own ray's. */
 PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3],
 									 const uint32_t r1[3], int out_w0) {
 	const uint8_t *bits = fb->fl->bits;
@@ -11004,11 +11001,11 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
 	return nnear;
 }
 
-/* Step 4, sources: cells meeting box (one clear of K by m is convex and free: its voxels get its w's node; else all
-   nodes), and outside if a cell is partly outside. Leaking cells (through closed level's wall into mesh's faceless
-   void) would flood every wall's interior, so if under half active cells lie outside box, outside floods first; cells
-   outside, partly outside or reached are excluded if together under half. Excluded cells seed no later flood, get no
-   occluder (pvs_shrink_cell sets all objects for them); argument holds for the rest. Sources left in fl->queue; returns
+/* Step 4, sources: cells meeting box (one clear of K by m is convex, free: its voxels get its w's node; else all
+   nodes), and outside if cell partly outside. Leaking cells (through closed level's wall into mesh's faceless void)
+   would flood every wall's interior, so if under half active cells lie outside box, outside floods first; cells
+   outside, partly outside or reached excluded if together under half. Excluded cells seed no later flood, get no
+   occluder (pvs_shrink_cell sets all objects for them); argument holds for rest. Sources left in fl->queue; returns
    pvs__vx_flood_run's ext. */
 PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
 	pvs__vx_flood *fl = fb->fl;
@@ -11088,7 +11085,7 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
 	return pvs__vx_flood_run(fl->bits, fl->queue, &qh, &qt, fb.d, fb.stride, lo, fb.up, ext);
 }
 
-/* Certifies K on occluders' grid: unflooded pure voxels are solid; if never entered, all outside box but ground too. */
+/* Certifies K on occluders' grid: unflooded pure voxels solid; if never entered, all outside box but ground too. */
 PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
 								 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
 	uint32_t d[3], i, j, k;
@@ -11119,7 +11116,7 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
 /* ---- 2.5D occluders: proved-solid columns at finer resolution, eroded by distance ----
 
    Each component floods again on own grid (voxel eps, grown within budgets). Column-map square (side eps / 2, larger
-   past PVS__VX_MAP_BUDGET): solid height = least top of proved-solid ground runs in voxel columns it overlaps; occluder
+   past PVS__VX_MAP_BUDGET): solid height = min top of proved-solid ground runs in voxel columns it overlaps; occluder
    height (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below component's triangles within eps of it:
    every point below has eps-ball free of component, joined to proved solid, so sight lines through it meet triangle
    first. Squares grow by margin above coordinate float precision. */
@@ -11132,8 +11129,8 @@ PVS__STATIC int pvs__float_cmp(const void *a, const void *b) {
 	return x < y ? -1 : x > y;
 }
 
-/* Least height of triangle p clipped to prism over octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <= u -
-   v <= d1} (DBL_MAX: none). */
+/* Min height of triangle p clipped to prism over octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <= u - v
+   <= d1} (DBL_MAX: none). */
 PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, const double lim[8]) {
 	static const double nu[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, nv[8] = {0, 0, -1, 1, -1, 1, 1, -1};
 	double a[16][3], b[16][3], best = DBL_MAX;
@@ -11161,7 +11158,7 @@ PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, i
 	return best;
 }
 
-/* pvs__vx_scan visitor: triangle's least height near each map square. */
+/* pvs__vx_scan visitor: triangle's min height near each map square. */
 typedef struct pvs__vx_tminvisit {
 	const pvs__vx_grid *gr;
 	double p[3][3], e, margin; /* triangle; near = within e */
@@ -11214,8 +11211,8 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
 	if (z < DBL_MAX && pvs__f_down(z - tv->margin) < tv->tmin[x]) tv->tmin[x] = pvs__f_down(z - tv->margin);
 }
 
-/* tmin, row-major over map squares sq0..sq1: least height of K's triangles within e of each (pvs__vx_tmin_visit;
-   FLT_MAX: none). */
+/* tmin, row-major over map squares sq0..sq1: min height of K's triangles within e of each (pvs__vx_tmin_visit; FLT_MAX:
+   none). */
 PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
 									  const uint32_t sq0[3], const uint32_t sq1[3], double e, double margin,
 									  float *tmin) {
@@ -11405,7 +11402,7 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 }
 
 /* Traces boundary loops of mask's set squares (w x h, empty frame around), set on left, turning left where diagonal
-   squares meet (4-connected). Simplified, each is chain of heights [base, top], point (i, j) at (ox + i c, oy + j c):
+   squares meet (4-connected). Simplified, each: chain of heights [base, top], point (i, j) at (ox + i c, oy + j c):
    outer (CCW) loops closed, holes (not solid) open, repeating first point. used: 4 (w + 1) (h + 1) bytes. 0: OOM. */
 PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
 							  uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
@@ -11967,7 +11964,7 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	b->line = PVS__ALLOC_N(a, uint8_t, 1u + o->n[0] + o->n[1] + o->n[2]);
 	if (!o->state || !o->eroded || !b->tmp || !b->line || total > 0x7fffffffu) {
 		uint32_t dims[3];
-		memcpy(dims, o->n, sizeof(dims)); /* used after o is gone */
+		memcpy(dims, o->n, sizeof(dims)); /* used after o gone */
 		PVS__FREE_N(a, b->tmp, total);
 		PVS__FREE_N(a, b->line, 1u + o->n[0] + o->n[1] + o->n[2]);
 		pvs_occluders_destroy(o);
@@ -12382,7 +12379,7 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
 	return o->chains;
 }
 
-/* ---- view cells from walkable space ---- */
+/* ---- view cells from walkable space */
 
 typedef struct pvs__wsample {
 	uint32_t col; /* column iu + nu iv */
@@ -12557,7 +12554,7 @@ PVS__STATIC int pvs__wgroup_before(const void *pa, const void *pb) {
 	return a->lo < b->lo || (a->lo == b->lo && a->root < b->root);
 }
 
-/* 1 if group is one level over every column of rectangle. */
+/* 1 if group one level over every column of rectangle. */
 PVS__STATIC int pvs__wgroup_rect(const pvs__walk *k, const pvs__wgroup *g) {
 	return g->count == (g->hi_u - g->lo_u + 1) * (g->hi_v - g->lo_v + 1) && g->hi - g->lo <= k->d.step_height;
 }
@@ -12597,8 +12594,8 @@ PVS__STATIC pvs__wgroup *pvs__walk_find(const pvs__walk *k, pvs__wgroup *g, cons
 	return NULL;
 }
 
-/* Emits box over columns [u0, u1] plus half a spacing, from quarter eye height over lo to eye height over hi, clipped
-   to bounds of view volumes met. */
+/* Emits box over columns [u0, u1] + spacing / 2, from 1/4 eye height over lo to eye height over hi, clipped to bounds
+   of view volumes met. */
 PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, uint32_t v0, uint32_t v1, float lo,
 								float hi, pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs_box b, in = pvs__box_empty();
@@ -12743,7 +12740,7 @@ PVS__STATIC uint32_t pvs__walk_reach(pvs__walk *k, uint32_t s0) {
 				pvs__walk_point(k, col, top, q);
 				if (pvs_scene_segment_blocked(k->s, p, q)) continue;
 				pvs__walk_point(k, col, k->w[b].h + k->d.step_height + k->eps, p);
-				if (p[k->up] != q[k->up] && pvs_scene_segment_blocked(k->s, q, p)) continue; /* the drop */
+				if (p[k->up] != q[k->up] && pvs_scene_segment_blocked(k->s, q, p)) continue; /* drop */
 				k->local[b] = 1;
 				k->global[tail++] = b;
 			}
@@ -12852,22 +12849,22 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 
 // >>vocc
 /* ==== vocc: virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): aggregate umbrae grown from seeds along active
-   supporting and separating lines (§3), 2.5D by height slices (§3.1), greedy selection (Fig. 6), five quantized bytes
+   supporting and separating lines (§3), 2.5D by height slices (§3.1), greedy selection (Fig. 6), 5 quantized bytes
    per occluder, PVS rebuilt on cell entry (§2, §4) ==== */
-/* 2D (§3): cell C a rectangle, occluders opaque segments. Segments closing ring with exactly equal ends form wall
-   loop: point inside (odd crossings) hidden from all outside, and segment crossing its hull from outside to outside
-   crosses loop, so loop whose hull misses C is convex blocker (its hull) for points outside it. §3's objects: these
-   hulls (buildings), other segments. Conservative: x hidden iff every segment C-x meets blocker. Convex blocker
-   disjoint from C, not holding x, covers interval of C's fan from x, wholly before or behind C per ray (disjoint convex
-   sets seen from point keep order): one ray decides; x hidden if intervals before C cover fan (pvs__vo_hidden). Along a
-   line the answer changes only at object boundaries or common tangents through C of two objects (or object and C);
-   hidden sets are closed, so a point per interval between events finds hidden parts up to rounding
-   (pvs__vo_line_hidden). Each virtual occluder is so checked after final rounding, against aggregate's blockers
-   (subset). Growth (§3): seeds by subtended angle; aggregate grows both sides along active supporting line P (outer
-   tangent of C and aggregate) and separating polyline Q (first inner tangent). Object B hit by active line: (1) meets
-   umbra U (probe point of B hidden without B): joins U, P and Q move to it, new occluder behind B or (3, found on Q)
-   furthest one extends; (2) meets only Q: bends Q, joins blockers so later objects fuse through it. New occluder dumps
-   current one into dense set ("periodically dumped", §3). */
+/* 2D (§3): cell C: rectangle, occluders opaque segments. Segments closing ring with exactly equal ends form wall loop:
+   point inside (odd crossings) hidden from all outside, and segment crossing its hull outside-to-outside crosses loop,
+   so loop whose hull misses C is convex blocker (its hull) for points outside it. §3's objects: these hulls
+   (buildings), other segments. Conservative: x hidden iff every segment C-x meets blocker. Convex blocker disjoint from
+   C, not holding x, covers interval of C's fan from x, wholly before or behind C per ray (disjoint convex sets seen
+   from point keep order): one ray decides; x hidden if intervals before C cover fan (pvs__vo_hidden). Along line answer
+   changes only at object boundaries or common tangents through C of two objects (or object and C); hidden sets closed,
+   so point per interval between events finds hidden parts up to rounding (pvs__vo_line_hidden). Each virtual occluder
+   so checked after final rounding, against aggregate's blockers (subset). Growth (§3): seeds by subtended angle;
+   aggregate grows both sides along active supporting line P (outer tangent of C and aggregate) and separating polyline
+   Q (first inner tangent). Object B hit by active line: (1) meets umbra U (probe point of B hidden without B): joins U,
+   P and Q move to it, new occluder behind B or (3, found on Q) furthest one extends; (2) meets only Q: bends Q, joins
+   blockers so later objects fuse through it. New occluder dumps current one into dense set ("periodically dumped",
+   §3). */
 
 #define PVS__VO_NONE 0xffffffffu
 #define PVS__VO_MAXH 64u /* max hull vertices of loop blocker */
@@ -12902,7 +12899,7 @@ PVS__STATIC void pvs__vo_pangle_dir(double p, double *d, double *c) {
 	*c = p;
 }
 
-/* ---- prepared occluders: segments with heights, wall loops, objects, grid ---- */
+/* ---- prepared occluders: segments with heights, wall loops, objects, grid */
 
 typedef struct pvs__vprep {
 	pvs_allocator a;
@@ -13018,7 +13015,7 @@ PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
 	w->nv = nv;
 }
 
-/* Per vertex: degree (w->deg), first two segments (w->adj), component root (w->uf); per root w->idx = 1 if not loop
+/* Per vertex: degree (w->deg), first 2 segments (w->adj), component root (w->uf); per root w->idx = 1 if not loop
    (vertex of degree != 2). p->seg_loop = -1. */
 PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 	uint32_t *deg = w->deg, *adj = w->adj, *uf = w->uf, *idx = w->idx, m = p->nseg, nv = w->nv, i;
@@ -13064,7 +13061,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 			v = wv;
 			s = adj[2 * v] == s ? adj[2 * v + 1] : adj[2 * v];
 		} while (s != i && count <= m);
-		if (count < 3) { /* two segments, same two points: no inside */
+		if (count < 3) { /* 2 segments, same 2 points: no inside */
 			for (k = 0; k < count; ++k) p->seg_loop[p->ring_seg[ring + k]] = -1;
 			idx[root] = 1;
 			continue;
@@ -13258,7 +13255,7 @@ done:
 	return PVS_OK;
 }
 
-/* ---- one cell and height slice: blockers in cell's frame (centre at origin) ---- */
+/* ---- one cell and height slice: blockers in cell's frame (centre at origin) */
 
 typedef struct pvs__vobj {
 	uint32_t first, n; /* vx[first, +n): n = 2 segment, else ccw hull */
@@ -13510,7 +13507,7 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 	return !c->oom;
 }
 
-/* ---- exact hidden tests ---- */
+/* ---- exact hidden tests */
 
 /* 1 if x inside wall loop l (odd crossings), over tol from its walls; only loops whose hull misses cell. */
 PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x) {
@@ -13685,7 +13682,7 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 	return 0;
 }
 
-/* 1 if c->span[0 .. ns) (sorted here) covers fan [aL, aR]. Spans ending on one vertex join exactly (open chain walls),
+/* 1 if c->span[0..ns) (sorted here) covers fan [aL, aR]. Spans ending on one vertex join exactly (open chain walls),
    others need overlap > PVS__VO_ATOL: rounding only says "not hidden". */
 PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double aR) {
 	double reach;
@@ -13732,7 +13729,7 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
 	return pvs__vo_spans_cover(c, ns, fn.aL, fn.aR);
 }
 
-/* ---- aggregate: blockers, lines where hidden answers can change ---- */
+/* ---- aggregate: blockers, lines where hidden answers can change */
 
 /* Min and max pvs__vo_cross(p, q, .) over n points x. */
 PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x, uint32_t n, double *mn, double *mx) {
@@ -13895,7 +13892,7 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 	return c->oom ? 0 : nout;
 }
 
-/* 1 if all of a-b hidden (checked a little past ends). */
+/* 1 if all of a-b hidden (checked slightly past ends). */
 PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const double *b) {
 	double d[2], iv[2], len, mu;
 	d[0] = b[0] - a[0];
@@ -13907,7 +13904,7 @@ PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const doub
 	return iv[0] <= -mu && iv[1] >= 1.0 + mu;
 }
 
-/* ---- growth (§3) ---- */
+/* ---- growth (§3) */
 
 /* First object not in/refused by aggregate on ray o + s w (w unit), 0 < s <= smax (*s_hit: its s), or PVS__VO_NONE. */
 PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const double *w, double smax, double *s_hit) {
@@ -14210,9 +14207,9 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
 
 #endif /* PVS_RUNTIME_ONLY */
 
-/* ---- quantization: five bytes per occluder, relative to cell (VOCC section) ---- */
+/* ---- quantization: 5 bytes per occluder, relative to cell (VOCC section) */
 
-/* Cell scale S = 2^((code - 128) / 8), code 0..255 (exact: constant x power of two). Byte q: coordinate centre + S (q -
+/* Cell scale S = 2^((code - 128) / 8), code 0..255 (exact: constant x power of 2). Byte q: coordinate centre + S (q -
    128) |q - 128| / 16384, -S to 0.98 S, finer near cell. */
 PVS__STATIC double pvs__vo_scale(uint32_t code) {
 	static const double mant[8] = {1.0, 1.0905077326652577, 1.189207115002721, 1.2968395546510096,
@@ -14343,7 +14340,7 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b);
 PVS__STATIC void pvs__vo_dump(pvs__vctx *c, pvs__vo_cur *cur) {
 	double a[2], b[2], m;
 	if (!cur->valid) return;
-	m = 1e-6 * (cur->t1 - cur->t0); /* a little inside hidden interval */
+	m = 1e-6 * (cur->t1 - cur->t0); /* slightly inside hidden interval */
 	a[0] = cur->p[0] + (cur->t0 + m) * cur->d[0];
 	a[1] = cur->p[1] + (cur->t0 + m) * cur->d[1];
 	b[0] = cur->p[0] + (cur->t1 - m) * cur->d[0];
@@ -14391,7 +14388,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 				hitp[1] = sd[s].po[1] + sp * sd[s].pd[1];
 				on_q = t >= 0.0;
 			}
-			{ /* probes: hit point pushed a little toward umbra along ray */
+			{ /* probes: hit point pushed slightly toward umbra along ray */
 				double nx = s ? sd[s].pd[1] : -sd[s].pd[1], ny = s ? -sd[s].pd[0] : sd[s].pd[0];
 				double sz = 0.02 * ((c->obj[b].bb[2] - c->obj[b].bb[0]) + (c->obj[b].bb[3] - c->obj[b].bb[1])) + c->tol;
 				const double *rd = via_q ? sd[s].qd : sd[s].pd;
@@ -14485,7 +14482,7 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 
 #endif /* PVS_RUNTIME_ONLY */
 
-/* ---- runtime test: one box against one virtual occluder (pvs_vocc_box_hidden) ---- */
+/* ---- runtime test: one box against one virtual occluder (pvs_vocc_box_hidden) */
 
 typedef struct pvs__vo_rt {
 	double o[2]; /* frame origin (world) */
@@ -14617,7 +14614,7 @@ PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs
 	return pvs__vo_rt_user(&r, cell, up_axis, o) && pvs__vo_rt_hides(&r, box);
 }
 
-/* ---- rebuild: top-down walk of object kD-tree ---- */
+/* ---- rebuild: top-down walk of object kD-tree */
 
 typedef struct pvs__vo_walk {
 	const pvs__vo_rt *rt;
@@ -14741,7 +14738,7 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 	return pvs__vo_cull(cell, rt, count, boxes, object_count, tree, rest, rest_size, visible, err);
 }
 
-/* ---- VOCC section of .pvs file (layout: manual) ---- */
+/* ---- VOCC section of .pvs file (layout: manual) */
 
 #define PVS__VO_TAG ((uint32_t)'V' | ((uint32_t)'O' << 8) | ((uint32_t)'C' << 16) | ((uint32_t)'C' << 24))
 #define PVS__VO_HEAD 16u
@@ -14919,7 +14916,7 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 }
 
 #ifndef PVS_RUNTIME_ONLY /* rest of >>vocc, >>portal, >>methods, >>bake: bake side */
-/* ---- 2.5D per cell (§3.1), selection (Fig. 6): bake side ---- */
+/* ---- 2.5D per cell (§3.1), selection (Fig. 6): bake side */
 
 /* Shared by bake's cells: prepared facades, quantization, object boxes. */
 typedef struct pvs__vbake {
@@ -15214,7 +15211,7 @@ done:
 	return PVS_OK;
 }
 
-/* ---- 2D entry point ---- */
+/* ---- 2D entry point */
 
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t capacity, uint32_t *count,
 							   pvs_vocc_stats *stats, pvs_error *err) {
@@ -15274,7 +15271,7 @@ done:
 	return PVS_OK;
 }
 
-/* ---- VOCC bake method (row of >>bake's table) ---- */
+/* ---- VOCC bake method (>>bake's table row) */
 
 typedef struct pvs__vocc_bake {
 	pvs_allocator allocator;
@@ -15494,7 +15491,7 @@ typedef struct pvs__poprep {
 	size_t so_count;
 } pvs__poprep;
 
-/* ---- plane table ---- */
+/* ---- plane table */
 
 PVS__STATIC int pvs__po_plane_match(const double *a, const double n[3], double d, double de) {
 	return fabs(a[0] - n[0]) < PVS__PO_NORMAL_EPS && fabs(a[1] - n[1]) < PVS__PO_NORMAL_EPS &&
@@ -15547,7 +15544,7 @@ PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) 
 	return 2 * pair + (uint32_t)b;
 }
 
-/* ---- windings and polytopes ---- */
+/* ---- windings and polytopes */
 
 PVS__STATIC double pvs__po_dist(const double *pl, const double *x) {
 	return pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2] - pl[3];
@@ -15765,7 +15762,7 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 	return 1;
 }
 
-/* ---- solids ---- */
+/* ---- solids */
 
 /* Face planes of tris[0..n) if closed convex mesh (each directed edge and its reverse once; every vertex within tolc
    behind every triangle plane, or all in front: inside out): their count, else 0. edges: 6n scratch; planes: n. */
@@ -15915,7 +15912,7 @@ done:
 	return ok;
 }
 
-/* ---- tree ---- */
+/* ---- tree */
 
 typedef struct pvs__po_build {
 	pvs__poprep *p;
@@ -16058,7 +16055,7 @@ leaf:
 	return id;
 }
 
-/* ---- portals and objects per leaf ---- */
+/* ---- portals and objects per leaf */
 
 PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to, uint32_t plane,
 									const pvs__po_wind *w) {
@@ -16181,7 +16178,7 @@ PVS__STATIC int pvs__po_csr(const pvs_allocator *a, const uint32_t *pairs, size_
 	return 1;
 }
 
-/* ---- portal flow ---- */
+/* ---- portal flow */
 
 /* Portal region seen from cell; planes bounding lines from cell through it (as table: dist <= tol kept). */
 typedef struct pvs__po_win {
@@ -16693,7 +16690,7 @@ PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
 	}
 }
 
-/* ---- method ---- */
+/* ---- method */
 
 PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 	pvs__poprep *p = (pvs__poprep *)state;
@@ -17129,7 +17126,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 	return rays;
 }
 
-/* ---- SAMPLE bake method (row of >>bake's table): estimate from below, never intersected ---- */
+/* ---- SAMPLE bake method (>>bake's table row): estimate from below, never intersected */
 
 typedef struct pvs__sample_bake {
 	pvs_allocator allocator;
@@ -17171,21 +17168,21 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
 	PVS_METHOD_SAMPLE, PVS__METHOD_APPROXIMATE, 4, 4, NULL, pvs__sample_bake_prepare, NULL, pvs__sample_bake_cell, NULL,
 	pvs__sample_bake_destroy, NULL};
 
-/* ---- extended projections (Durand et al. 2000) ---- */
+/* ---- extended projections (Durand et al. 2000) */
 
-/* Rounding: double from float inputs. Plane's frame maps point to (u, v, w), w its Depth beyond cell's face (§2.3;
-   cell: w in [-extent, 0]). P's view from cell corner V on plane w = W: V + (P - V) (W - Vw) / (Pw - Vw), Pw > Vw
-   (occluders clipped to w >= small margin; occludees wholly at w > 0). Convex occluder's Projection: 8 corner views
-   intersected (§3.2), pixel kept if its worst corner passes each edge by margin above all rounding; Depth: max w,
-   rounded up (§2.3). Occludee box's Projection: views' bounding rectangle (§3.1), widened likewise; Depth: min w,
-   rounded down. Hidden if every pixel there holds occluder strictly nearer (§2.2; off-plane pixels visible).
+/* Rounding: double from float inputs. Plane's frame maps point to (u, v, w), w: Depth beyond cell's face (§2.3; cell:
+   w in [-extent, 0]). P's view from cell corner V on plane w = W: V + (P - V) (W - Vw) / (Pw - Vw), Pw > Vw (occluders
+   clipped to w >= small margin; occludees wholly at w > 0). Convex occluder's Projection: 8 corner views intersected
+   (§3.2), pixel kept if its worst corner passes each edge by margin above all rounding; Depth: max w, rounded up
+   (§2.3). Occludee box's: views' bounding rectangle (§3.1), widened likewise; Depth: min w, rounded down. Hidden if
+   every pixel there holds occluder strictly nearer (§2.2; off-plane pixels visible).
 
    Bake (§6.1): occluders prepared once per bake; per cell and direction, largest by solid angle go on PVS__EP_PLANES
    depth maps and, with sweep, extproj.sweep masks out to scene's far end (§5); then object kD-tree front to back,
    hidden nodes skipped. Objects meeting cell always visible.
 
    Limits: occluders fuse only via maps and slices; Depths flat per part; umbrae shrink by cell size over distance:
-   sparse small occluders (foliage) are loose; sub-cells (extproj.sweep_subcells) recover part (tests/BENCHMARKS.md). */
+   sparse small occluders (foliage) loose; sub-cells (extproj.sweep_subcells) recover part (tests/BENCHMARKS.md). */
 
 #define PVS__EP_MAXP 16 /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -17203,7 +17200,7 @@ typedef struct pvs__epframe {
 	double s, face, W, u0, v0, su, sv;
 	double cu[2], cv[2], cw[2];
 	uint32_t width, height;
-	unsigned char bits; /* bits a Projection sets in sweep mask: 1 or sub-cell's */
+	unsigned char bits; /* bits Projection sets in sweep mask: 1 or sub-cell's */
 } pvs__epframe;
 
 /* Plane's frame, sides <= max_side pixels (public API: 4096); 0 if plane bad. */
@@ -17260,7 +17257,7 @@ PVS__STATIC int pvs__ep_pt2_cmp(const void *x, const void *y) {
 /* Convex hull (Andrew's monotone chain), CCW, no collinear points; sorts pts (n x 2); hull: n + 1 room. Returns size */
 PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
 	int i, k = 0, lower;
-	if (n > 1) PVS_QSORT(pts, (size_t)n, sizeof(pts[0]), pvs__ep_pt2_cmp); /* equal points are equal values */
+	if (n > 1) PVS_QSORT(pts, (size_t)n, sizeof(pts[0]), pvs__ep_pt2_cmp); /* equal points: equal values */
 	if (n < 3) return 0;
 	for (i = 0; i < n; ++i) {
 		while (k >= 2 && pvs__vo_cross(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
@@ -17347,7 +17344,7 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 			/* moving point by slack moves its view <= slack (t + |view - V| / (Pw - Vw)) per axis */
 			smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
 		}
-		/* vertex error in pixels: a few ulps of terms, widely, plus slack */
+		/* vertex error in pixels: a few ulps of terms, widely, + slack */
 		verr = 1e-12 * (mag + base + 1.0) + slack * smax * pvs__dmax(f.su, f.sv);
 		if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* past useful precision */
 		E->xlo = pvs__dmax(E->xlo, bx0); E->xhi = pvs__dmin(E->xhi, bx1);
@@ -17392,14 +17389,14 @@ PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, in
 		E->b[m] = b;
 		E->c[m] = cc;
 		E->e[m] = 1e-6 + E->e[e] + 1e-12 * pvs__dabs(cc);
-		/* x * (1 / a) is within two ulps of x / a, far inside 1e-9 |x| margin */
+		/* x * (1 / a) within 2 ulps of x / a, far inside 1e-9 |x| margin */
 		E->inv[m] = pvs__dabs(a) > 1e-12 ? 1.0 / a : 0.0;
 		++m;
 	}
 	E->n = m;
 }
 
-/* Pixels x0..x1 of row j: `depth` to map (where nearer), f->bits to mask (either may be NULL). Returns count. */
+/* Pixels x0..x1 of row j: `depth` to map (where nearer), f->bits to mask (either may be NULL); count. */
 PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, int32_t x1, float depth, float *map,
 								  unsigned char *mask) {
 	size_t row = (size_t)j * f->width;
@@ -17413,7 +17410,7 @@ PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, 
 }
 
 /* Rasterizes Projection E in rows j0..j1, columns i0..i1 as pvs__ep_span: pixels whose worst corner passes every edge
-   by its margin; count. Not pvs__raster_poly: flat-Depth spans are faster; edges carry error bounds. */
+   by its margin; count. Not pvs__raster_poly: flat-Depth spans faster; edges carry error bounds. */
 PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0,
 									   int32_t j1, float depth, float *map, unsigned char *mask) {
 	int32_t row;
@@ -17493,7 +17490,7 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
 		}
 		a = (a - k0) * sk;
 		b = (b - k0) * sk;
-		/* margin far above these few operations' rounding */
+		/* margin far above these few ops' rounding */
 		if (b - a < 1.0 - 1e-6 * (1.0 + pvs__dabs(a) + pvs__dabs(b)) || b < -1e-6 * (1.0 + pvs__dabs(b)) ||
 			a > size + 1e-6 * (1.0 + pvs__dabs(a)))
 			return 0;
@@ -17589,11 +17586,10 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
 	return 1;
 }
 
-/* Durand 2000 §4's improved occludee Projection on axis k, box between cell and plane (depths w0..w1 <= W). Cones go
-   to cell's near face (w = 0): inside cone(P, cell), so Property 2 holds: 3D Projection is exactly product of 2D ones.
-   With [L(X), R(X)] X's views from face, I = [a, b] works iff a <= min R and b >= max L (over box corners): if max L <=
-   min R one point serves (*any = 1: one column must be hidden), else [min R, max L] (*any = 0: all). Indices may leave
-   map. */
+/* Durand 2000 §4's improved occludee Projection on axis k, box between cell and plane (depths w0..w1 <= W). Cones
+   reach cell's near face (w = 0): inside cone(P, cell), so Property 2 holds: 3D Projection = product of 2D ones. [L(X),
+   R(X)]: X's views from face; I = [a, b] works iff a <= min R and b >= max L (over box corners): if max L <= min R one
+   point serves (*any = 1: one column must be hidden), else [min R, max L] (*any = 0: all). Indices may leave map. */
 PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W,
 									   double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
 	double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
@@ -17639,7 +17635,7 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
 	return 0;
 }
 
-/* ---- bake method: occluders per bake, planes per cell ---- */
+/* ---- bake method: occluders per bake, planes per cell */
 
 /* Convex occluder: planar convex polygon (triangle or merged triangles) or closed convex solid. */
 typedef struct pvs__epocc {
@@ -17678,7 +17674,7 @@ typedef struct pvs__epsheet {
    "capped": odd ones in one plane, all vertices on one side (building with no floor). */
 typedef struct pvs__epslice {
 	pvs_box box;
-	uint32_t first, count; /* scene triangles prep->stri[first .. first + count) */
+	uint32_t first, count; /* scene triangles prep->stri[first..first + count) */
 	uint32_t bfirst, bcount; /* capped: boundary edges prep->bedge[6 * bfirst ...], 2 points each */
 	int capped; /* capped: solid where cap_side * (x[cap_axis] - cap_value) >= 0 */
 	int cap_axis, cap_side;
@@ -17700,7 +17696,7 @@ typedef struct pvs__extproj_prep {
 	uint32_t max_slice_segments; /* most triangles + boundary edges of one sliced component */
 	pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
 	uint32_t sheet_count;
-	/* per size class (area bound < 4^c): kD-tree of boxes, nodes pruned by largest area */
+	/* per size class (area bound < 4^c): kD-tree of boxes, nodes pruned by max area */
 	pvs_kdtree *occ_tree[PVS__EP_AREA_CLASSES];
 	uint32_t *class_occ[PVS__EP_AREA_CLASSES]; /* tree item -> occluder */
 	uint32_t class_count[PVS__EP_AREA_CLASSES];
@@ -17796,7 +17792,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 			PVS__FOR3(k)
 				scale = pvs__dmax(scale,
 								  pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
-			/* hull exceeds two triangles by <= this: slack */
+			/* hull exceeds 2 triangles by <= this: slack */
 			dev = pvs__dabs(pvs__ep_plane_dist(n, x, a0)) / len;
 			if (dev > 1e-6 * scale) return 0;
 			for (k = 0; k < 4; ++k) { /* strictly convex at each corner, turning like triangle */
@@ -17853,7 +17849,7 @@ PVS__STATIC int pvs__ep_end_cmp(const void *x, const void *y) {
 	return c ? c : a->edge < b->edge ? -1 : a->edge > b->edge;
 }
 
-/* Walks edges e[0 .. nb) as one loop from e[0].a into q; 0 if point on > 2 edges or 2+ loops. ends: 2 nb */
+/* Walks edges e[0..nb) as one loop from e[0].a into q; 0 if point on > 2 edges or 2+ loops. ends: 2 nb */
 PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, pvs__epend *ends) {
 	uint32_t i, m, edge = 0;
 	float cur[2];
@@ -17887,7 +17883,7 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
 
 /* Union of group's triangles as one convex polygon: boundary edges (odd use) in one loop turning once, with triangles'
    area (no overlap or hole). Fills q (CCW, no collinear points), returns size or 0. tol > 0: wrong turns under tol
-   (relative) count as straight, q is loop's hull (hp, hh: qcap + 1 scratch; 0 past max_hull points), *dent deepest loop
+   (relative) count as straight, q: loop's hull (hp, hh: qcap + 1 scratch; 0 past max_hull points), *dent deepest loop
    point in it. ends: 2 qcap. */
 PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep,
 										   uint32_t qcap, pvs__epend *ends, double tol, double (*hp)[2],
@@ -18052,7 +18048,7 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
 }
 
 /* 1 if component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each triangle's plane to float precision;
-   *slack: twice worst violation (hull exceeds surface by no more). */
+   *slack: 2x worst violation (hull exceeds surface by no more). */
 PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
 										 uint32_t n, double *slack) {
 	uint32_t t, i, k;
@@ -18227,8 +18223,8 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 	return PVS_OK;
 }
 
-/* Union-finds into w->gparent (smaller index roots) edge-sharing triangles coplanar to float precision (`scale`: twice
-   largest coordinate) facing alike. Needs 3 n < 2^21 (21-bit packing). */
+/* Union-finds into w->gparent (smaller index roots) edge-sharing triangles coplanar to float precision (`scale`: 2x max
+   coordinate) facing alike. Needs 3 n < 2^21 (21-bit packing). */
 PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
 									   pvs__epprepwork *w, double scale) {
 	uint32_t j, k, ne = 0, g;
@@ -18314,7 +18310,7 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
 	if (found != k) return;
 	{
 		/* slack: vertices' distance from plane through 3 far-apart corners (first triangle's plane tilts with
-		   rounding), doubled for hull and surface, again for footprint, plus dent |n| / |n_ax| (dent in (u, v)) */
+		   rounding), doubled for hull and surface, again for footprint, + dent |n| / |n_ax| (dent in (u, v)) */
 		double best = 0.0, nb[3], lb = 0.0, dev2 = 0.0;
 		uint32_t i1, i2, b1 = 1, b2 = 2;
 		for (i1 = 1; i1 < k; ++i1)
@@ -18429,7 +18425,7 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
 	for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__uf_find(w->parent, i)]++] = i;
 }
 
-/* Component `comp`'s boundary (odd-use edges) into w->edges, returns count; its vertices into w->uv[0 .. *nuv) */
+/* Component `comp`'s boundary (odd-use edges) into w->edges, returns count; its vertices into w->uv[0..*nuv) */
 PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp,
 												uint32_t *nuv) {
 	uint32_t j, k, nb = pvs__ep_odd_edges(w, tl, NULL, n, w->edges);
@@ -18514,12 +18510,12 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 	return PVS_OK;
 }
 
-/* One component (triangles tl[0 .. n), root `comp`): closed or capped and convex: solid; else its polygons, kept for
+/* One component (triangles tl[0..n), root `comp`): closed or capped and convex: solid; else its polygons, kept for
    slicing if closed or capped. */
 PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0,
 												 const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t tn,
 												 pvs__epprepwork *w) {
-	uint32_t nuv, j, k, closed, *bnd = w->owner; /* owner is free now */
+	uint32_t nuv, j, k, closed, *bnd = w->owner; /* owner free now */
 	uint32_t nb = pvs__ep_component_boundary(w, tl, n, comp, &nuv), tris_local[2 * PVS__EP_MAXP];
 	int capped = 0, cap_axis = 0, cap_side = 0;
 	float cap_value = 0.0f;
@@ -18533,7 +18529,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 		capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
 	}
 	if (closed || capped) {
-		const float **vq = (const float **)w->ref; /* ref is free now: room for 3 tn pointers */
+		const float **vq = (const float **)w->ref; /* ref free now: room for 3 tn pointers */
 		uint32_t *tt = w->gparent; /* unused until polygons */
 		for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
 		for (j = 0; j < n; ++j) tt[j] = t0 + tl[j];
@@ -18586,7 +18582,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
 	return PVS_OK;
 }
 
-/* ---- sheets (grounds, floors) and occluders extended through them ---- */
+/* ---- sheets (grounds, floors) and occluders extended through them */
 
 typedef struct pvs__epskey {
 	float value;
@@ -18730,7 +18726,7 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
 	return PVS_OK;
 }
 
-/* 1 if convex occluder oc stands on sheet S: *on vertices exactly in its plane inside its polygon, the rest on one side
+/* 1 if convex occluder oc stands on sheet S: *on vertices exactly in its plane inside its polygon, rest on one side
    (*above), each exactly over one of those or inside their hull; not concave; <= PVS__EP_MAXP points once extended. */
 PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *oc, const pvs__epsheet *S, uint32_t *on,
 								  int *above) {
@@ -18764,7 +18760,7 @@ PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *
 	return ok;
 }
 
-/* oc's extended point set: its points plus its `on` points (in sheet sh's plane) pushed by D away from `above`. */
+/* oc's extended point set: its points + its `on` points (in sheet sh's plane) pushed by D away from `above`. */
 PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint32_t sh, uint32_t on, int above,
 									  double D) {
 	const pvs__epsheet *S = p->sheet + sh;
@@ -18794,7 +18790,7 @@ PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint
 
 /* Finds largest sheets, extends occluders standing on them through them by scene's size: prism under footprint keeps
    occluder convex and lies in sheet's solid half-space, so from cell over sheet on its side it blocks nothing new and
-   closes the wall-ground seam two Projections leave open. */
+   closes wall-ground seam two Projections leave open. */
 PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
 	const pvs_allocator *a = &p->allocator;
 	pvs__epskey *key = NULL;
@@ -18913,7 +18909,7 @@ PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *
 	}
 }
 
-/* Per size class: occluders, largest area, kD-tree of boxes (§6.1's sweeps). */
+/* Per size class: occluders, max area, kD-tree of boxes (§6.1's sweeps). */
 PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err) {
 	const pvs_allocator *a = &p->allocator;
 	pvs_kdtree_desc kd;
@@ -19005,7 +19001,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 	return PVS_OK;
 }
 
-/* ---- slices of closed meshes (§3.3) ---- */
+/* ---- slices of closed meshes (§3.3) */
 
 /* Slicer per-cell scratch: segments (x0, y0, x1, y1 in pixels), crossings, row. */
 typedef struct pvs__epslicer {
@@ -19107,7 +19103,7 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
 	return nseg;
 }
 
-/* Fills section's inside: per row parity spans of its centre line (half-open in y), less pixels a segment crosses in
+/* Fills section's inside: per row parity spans of its centre line (half-open in y), less pixels segment crosses in
    row's band widened by m, get `depth` (where nearer) in map, f->bits in mask (either may be NULL). */
 PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double m,
 										  float depth, float *map, unsigned char *mask) {
@@ -19167,9 +19163,9 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
 }
 
 /* Section of closed (or capped) component by plane w = W (Durand 2000 §3.3): pixels inside by parity, at margin from
-   every segment, get Depth W. Conservative: cell point V is outside solid (cell outside its box), section point X
-   inside, so V-X crosses surface odd # of times, never cap (both strictly on its solid side): hits triangle nearer than
-   W. Vertices on plane count as beyond it (symbolic perturbation): segments agree. */
+   every segment, get Depth W. Conservative: cell point V outside solid (cell outside its box), section point X inside,
+   so V-X crosses surface odd # of times, never cap (both strictly on its solid side): hits triangle nearer than W.
+   Vertices on plane count as beyond it (symbolic perturbation): segments agree. */
 PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
 								   const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
 	double mag = 0.0;
@@ -19259,10 +19255,10 @@ PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep 
 	return written;
 }
 
-/* ---- concave planar occluders (§3.4) ---- */
+/* ---- concave planar occluders (§3.4) */
 
-/* Clips concave boundary E (n edges) to w >= c (ge) or w <= c: kept edges cut exactly at c, plus clip line's parts
-   inside P (crossings sorted, paired by parity). E: room for 1.5 n + 1 edges. Returns new count. */
+/* Clips concave boundary E (n edges) to w >= c (ge) or w <= c: kept edges cut exactly at c, + clip line's parts inside
+   P (crossings sorted, paired by parity). E: room for 1.5 n + 1 edges. Returns new count. */
 PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epocc *o, double *E, uint32_t n,
 										  double cdepth, int ge) {
 	const pvs__epframe f = *fp;
@@ -19327,7 +19323,7 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 			double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
 			pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
 			pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
-			/* rounding: a few ulps of terms, widely (ends are exact) */
+			/* rounding: a few ulps of terms, widely (ends exact) */
 			err = pvs__dmax(err,
 							1e-12 *
 								(pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
@@ -19419,9 +19415,9 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 }
 
 /* Projection of concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of plane or, unless front_only,
-   behind it. As cell point moves, line's crossing with P's plane leaves P only through its boundary, so pixel X is
-   covered if (1) outside every boundary edge's penumbra (cmark) and (2) line from cell's centre through X crosses P;
-   one test per unmarked run of row. Depth: farthest vertex plus slack. */
+   behind it. As cell point moves, line's crossing with P's plane leaves P only through its boundary, so pixel X covered
+   if (1) outside every boundary edge's penumbra (cmark) and (2) line from cell's centre through X crosses P; one test
+   per unmarked run of row. Depth: farthest vertex + slack. */
 PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o,
 									 int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
 	const pvs__epframe f = *fp;
@@ -19506,9 +19502,9 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 	return written;
 }
 
-/* ---- depth maps with pyramids, sweep masks ---- */
+/* ---- depth maps with pyramids, sweep masks */
 
-/* Depth map and its max pyramid (§2.4): texel: greatest Depth of its 2 x 2 children. */
+/* Depth map and its max pyramid (§2.4): texel: max Depth of its 2 x 2 children. */
 typedef struct pvs__epmap {
 	pvs_extproj_plane plane;
 	pvs__epframe frame;
@@ -19526,7 +19522,7 @@ PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
 }
 
 /* Top-down query of extproj's pyramids: depth maps (max pyramids: open where Depth >= d) and sweep masks (AND pyramids:
-   open where `bit` is 0). 1 if level-0 pixel of rect r (x0 y0 x1 y1) under texel (tx, ty) of level l is open. */
+   open where `bit` is 0). 1 if level-0 pixel of rect r (x0 y0 x1 y1) under texel (tx, ty) of level l open. */
 typedef struct pvs__ep_pyr {
 	float *const *depth; /* depth map levels; NULL for mask */
 	unsigned char *const *mask;
@@ -19575,8 +19571,8 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
 
 /* Sweep plane (§5): mask (1 = every ray from cell through pixel blocked before plane) and its AND pyramid. With
    sub-cells (nsub = 4) bit j says so for quarter j of cell (halved across direction on u: bit 0, v: bit 1; frame
-   sub[j]): their umbrae together are wider than cell's; object hidden if hidden from each. frame.bits: all four (slices
-   block every ray). nsub = 0: bit 1. */
+   sub[j]): their umbrae together wider than cell's; object hidden if hidden from each. frame.bits: all 4 (slices block
+   every ray). nsub = 0: bit 1. */
 #define PVS__EP_MAX_SUB 4
 typedef struct pvs__epmask {
 	pvs_extproj_plane plane;
@@ -19663,7 +19659,7 @@ PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, doub
 	}
 }
 
-/* ---- per cell: occluder selection, planes, object sweep ---- */
+/* ---- per cell: occluder selection, planes, object sweep */
 
 typedef struct pvs__epsel {
 	float score;
@@ -19678,9 +19674,9 @@ typedef struct pvs__epparams {
 	uint32_t coarse; /* 1 (PVS_BAKE_PREVIEW): object nodes decided whole (pvs__ep_visit) */
 } pvs__epparams;
 
-/* Preview's coarse test (PVS_BAKE_PREVIEW): node subtending < PVS__EP_COARSE_ANGLE (diagonal over distance plus cell
-   diagonal; ~4 pixels of 64-pixel plane) is decided whole; past PVS__EP_COARSE_TESTS box tests all kept. Such nodes
-   number ~log(scene / cell) / angle^2 at any scene size. Only hidden boxes are dropped. */
+/* Preview's coarse test (PVS_BAKE_PREVIEW): node subtending < PVS__EP_COARSE_ANGLE (diagonal over distance + cell
+   diagonal; ~4 pixels of 64-pixel plane) decided whole; past PVS__EP_COARSE_TESTS box tests all kept. Such nodes number
+   ~log(scene / cell) / angle^2 at any scene size. Only hidden boxes dropped. */
 #define PVS__EP_COARSE_ANGLE 0.25
 #define PVS__EP_COARSE_TESTS 4096u
 
@@ -19688,7 +19684,7 @@ typedef struct pvs__epcell {
 	const pvs_scene *scene;
 	pvs_box cell;
 	pvs__epmap maps[6 * PVS__EP_PLANES];
-	pvs__epmask *masks; /* 6 x sweep; direction d's: d * sweep .. + mask_count[d] */
+	pvs__epmask *masks; /* 6 x sweep; direction d's: d * sweep..+mask_count[d] */
 	uint32_t mask_count[6], sweep;
 	const pvs_word *candidates; /* adaptive cells (§6.1): test only parent's PVS; NULL = all */
 	pvs_word *bits;
@@ -19697,8 +19693,8 @@ typedef struct pvs__epcell {
 	uint32_t tests; /*   box tests so far */
 } pvs__epcell;
 
-/* 1 if box between cell and plane (depths w0 > 0 .. w1 <= W) is hidden by §4's improved Projection: point of each
-   "any" axis range and all of each "all" range hold occluders strictly nearer than w0. Property 1 needs them convex or
+/* 1 if box between cell and plane (depths w0 > 0..w1 <= W) hidden by §4's improved Projection: point of each "any"
+   axis range and all of each "all" range hold occluders strictly nearer than w0. Property 1 needs them convex or
    planar: Projections and reprojected maps are; slices (Depth W) never pass front box's depth test. */
 PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, double w0, double w1) {
 	const pvs__epframe *f = &m->frame;
@@ -19727,7 +19723,7 @@ PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, doub
 	return 0;
 }
 
-/* Box beyond sweep plane: §3.1's Projection (every blocked pixel's occluder is nearer); per sub-cell. */
+/* Box beyond sweep plane: §3.1's Projection (every blocked pixel's occluder nearer); per sub-cell. */
 PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
 	int32_t r[4];
 	float depth;
@@ -19740,7 +19736,7 @@ PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
 }
 
 /* 1 if box hidden from whole cell (never if meeting it): on §6.1's planes by §3.1 behind, §4 in front, both parts if
-   straddling; on sweep's by last two planes before it. */
+   straddling; on sweep's by last 2 planes before it. */
 PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
 	int d;
 	if (pvs__box_overlap(b, &c->cell)) return 0;
@@ -19938,7 +19934,7 @@ PVS__STATIC uint32_t pvs__ep_level_count(uint32_t res) {
 PVS__STATIC size_t pvs__ep_sat_table(uint32_t res) { return (size_t)res * res + pvs__ep_max_side(res) + res + 1; }
 
 /* Sweep's summed-area tables: one per plane of direction (each read by <= log2(sweep) + 1 later planes) within
-   PVS__EP_SAT_CACHE bytes and sweep >= 2; else two, rebuilt per use. */
+   PVS__EP_SAT_CACHE bytes and sweep >= 2; else 2, rebuilt per use. */
 PVS__STATIC size_t pvs__ep_sat_count(uint32_t res, uint32_t sweep) {
 	return (size_t)sweep * pvs__ep_sat_table(res) * sizeof(uint32_t) <= PVS__EP_SAT_CACHE && sweep >= 2 ? sweep : 2;
 }
@@ -19958,11 +19954,11 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
 	return bytes;
 }
 
-/* Fits sweep plane (§5) to span of cell and scene's bounds per axis (plus sliver), spreading res x res map's pixels
-   over it as ~square pixels within `room` with `levels`; pixels outside count as open. Nothing that could hide is lost:
-   only occludees beyond (§3.1) and reprojection farther out (§5.1) read masks, and rays from cell to points beyond
-   cross plane inside span, which holds cell's (as pvs__epslab needs). §6.1's planes are not fitted: §4 often hides by
-   pixels outside span. */
+/* Fits sweep plane (§5) to span of cell and scene's bounds per axis (+ sliver), spreading map's res x res ~square
+   pixels over it within `room` with `levels`; pixels outside count as open. Nothing that could hide is lost: only
+   occludees beyond (§3.1) and reprojection farther out (§5.1) read masks, and rays from cell to points beyond cross
+   plane inside span, which holds cell's (as pvs__epslab needs). §6.1's planes not fitted: §4 often hides by pixels
+   outside span. */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels,
 								   size_t room, pvs_extproj_plane *pl) {
 	int a = (int)pl->axis, k;
@@ -20069,7 +20065,7 @@ PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__ep
 }
 
 /* Selection (§6.1): per direction n occluders of largest solid angle from cell's centre beyond face, by (score, lower
-   index): total order, visit-order free; those whose bound (area / distance^2) cannot enter heap are skipped. */
+   index): total order, visit-order free; those whose bound (area / distance^2) cannot enter heap skipped. */
 typedef struct pvs__epselect {
 	const pvs_scene *scene;
 	const pvs__extproj_prep *p;
@@ -20284,8 +20280,8 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
 
 /* §5.1 reprojection: marks in `to` (farther than `from`) pixels whose every ray from cell crosses blocked pixels of
    `from`: umbra inside that of occluders before `from` (Appendix B), so conservative. Kernel: true cell's per row and
-   column (pvs__ep_reproject_axis); summed-area table of from's open pixels decides. Sub-cell j: own kernel and
-   sat_split lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
+   column (pvs__ep_reproject_axis); summed-area table of from's open pixels decides. Sub-cell j: own kernel, sat_split
+   lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
 PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split,
 									   pvs__epmask *to, int32_t *ranges, uint32_t j) {
 	unsigned char *mask = to->lv[0];
@@ -20336,8 +20332,8 @@ PVS__STATIC void pvs__ep_mask_sat(const pvs__epmask *from, uint32_t *sat, unsign
 	}
 }
 
-/* All sub-cells' summed-area tables at once: 16-bit lane j counts pixels without bit j, mod 2^64. Window's sum is exact
-   mod 2^64, so each lane is exact below 2^16 (caller checks): carries between lanes cancel. */
+/* All sub-cells' summed-area tables at once: 16-bit lane j counts pixels without bit j, mod 2^64. Window's sum exact
+   mod 2^64, so each lane exact below 2^16 (caller checks): carries between lanes cancel. */
 PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) {
 	const unsigned char *prev = from->lv[0];
 	uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1, b;
@@ -20356,7 +20352,7 @@ PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) 
 	}
 }
 
-/* pvs__ep_reproject_sat building table in `sat` ((res + 1)^2 counts; with sub-cells twice that, 8-aligned). */
+/* pvs__ep_reproject_sat building table in `sat` ((res + 1)^2 counts; with sub-cells 2x that, 8-aligned). */
 PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
 	uint32_t j;
 	if (!to->nsub) {
@@ -20369,9 +20365,9 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
 }
 
 /* §5.1 reprojection onto plane `count` from planes 1, 2, 4, 8, ... back (Appendix B: each one's blocked pixels lie in
-   umbra of occluders before it). Each reprojection loses up to a pixel per side to rounding (cell is box, not paper's
-   planar equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j to k. `cached`
-   (never with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
+   umbra of occluders before it). Each reprojection loses <= 1 pixel per side to rounding (cell: box, not paper's planar
+   equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j to k. `cached` (never
+   with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
 PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat,
 										 size_t stride, int cached, int32_t *ranges) {
 	uint32_t back;
@@ -20438,13 +20434,12 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
 	return PVS_VISIT_DESCEND;
 }
 
-/* §5's occlusion sweep for direction d: planes from one cell size C ahead (or behind nearest selected occluder, if
+/* §5's occlusion sweep for direction d: planes from cell size C ahead (or behind nearest selected occluder, if
    farther) to scene's far end, each with reprojected earlier planes (§5.1), Projections of occluders since previous
    plane and slices it cuts; count to *planes. Unlike §5.2 (tests/BENCHMARKS.md, extproj): geometric spacing, as dD = D
-   (K - 1) P / (C N) crowds planes near cell, where small umbrae are short, leaving few far out, where gaps between
-   small occluders close; none nearer than C: occluder of width s < C / 2 at w casts umbra ending before w C / (C
-   - s) < 2 w (nearer occluders still reach first plane); far end (scene's: §6.1 favours near occluders) holds no
-   plane. */
+   (K - 1) P / (C N) crowds planes near cell, where small umbrae short, leaving few far out, where gaps between small
+   occluders close; none nearer than C: occluder of width s < C / 2 at w casts umbra ending before w C / (C - s) < 2 w
+   (nearer occluders still reach first plane); far end (scene's: §6.1 favours near occluders) holds no plane. */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 											const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
 											pvs__epscratch *w, const int *sheet_side, const pvs_word *candidates,
@@ -20471,7 +20466,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 	}
 	if (!(Wend > 0.0)) return PVS_OK;
 	if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
-	/* just behind nearest occluder: only there does flat occluder facing it lie wholly in front */
+	/* just behind nearest occluder: only there flat occluder facing it lies wholly in front */
 	W0 = pvs__dmax(W0 + 1e-3 * (W0 + ext), C);
 	Wend += 1e-3 * (Wend + ext);
 	if (!(W0 < Wend)) return PVS_OK;
@@ -20528,7 +20523,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 }
 
 /* One cell's PVS (Durand 2000 §6.1): per direction chosen occluders on §6.1's planes and §5's sweep, then occludees
-   front to back. `candidates` (adaptive sub-cell): only these are tested, others' occluders left out. */
+   front to back. `candidates` (adaptive sub-cell): only these tested, others' occluders left out. */
 PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
 										 const pvs__epparams *prm, const pvs_word *candidates, const pvs_allocator *al,
 										 pvs_word *bits, uint32_t cell_id, pvs_error *err) {
@@ -20616,7 +20611,7 @@ done:
 	pvs__ep_scratch_free(al, &w, prm->res);
 	return r;
 }
-/* ---- EXTPROJ bake method (row of >>bake's table) ---- */
+/* ---- EXTPROJ bake method (>>bake's table row) */
 
 typedef struct pvs__extproj_bake {
 	pvs_allocator allocator;
@@ -20693,24 +20688,24 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {
 	pvs__extproj_bake_prepare, pvs__extproj_bake_applies, pvs__extproj_bake_cell, NULL, pvs__extproj_bake_destroy,
 	NULL};
 
-/* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
+/* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) */
 
 /* ---- 2.5D path: per-sample occlusion horizons ----
 
 Wonka 2000 §2.1: cell's PVS is union of its samples'. Per sample, occlusion horizon over PVS__HZ_BINS angular bins
-around eye (height H): facade of height T at ground distance dc hides point at distance r > dc, height z if (z - H) /
-r < (T - H) / dc. A bin one chain of shrunk facades covers wholly (shared corners: no crack) is crossed by all its rays
-between dmin and dmax, so beyond dmax it hides below slope (T - H) / dmax (T >= H) or (T - H) / dmin (T < H); per bin a
-staircase of (distance, slope) steps keeps best. Box is hidden if every bin its ground rectangle touches has, at its
-least distance, slope above its steepest sight line. Occluders front to back, occluded ones skipped (§3.4). Angles
-bin-exact, the rest rounded safe. */
+around eye (height H): facade of height T at ground distance dc hides point at distance r > dc, height z if (z - H) / r
+< (T - H) / dc. Bin one chain of shrunk facades covers wholly (shared corners: no crack) is crossed by all its rays
+between dmin and dmax, so beyond dmax it hides below slope (T - H) / dmax (T >= H) or (T - H) / dmin (T < H); per bin
+staircase of (distance, slope) steps keeps best. Box hidden if every bin its ground rectangle touches has, at its min
+distance, slope above its steepest sight line. Occluders front to back, occluded ones skipped (§3.4). Angles bin-exact,
+rest rounded safe. */
 
 /* 0.23 degree bins; finer, eps / 2 columns, more steps, per-triangle tests: no gain (tests/BENCHMARKS.md, shrink). */
 #define PVS__HZ_BINS 1536
 #define PVS__HZ_STEPS 6
 
-/* Pseudo-angles in [0, 4) ("diamond angle": monotone in angle, a quarter turn per unit, no trigonometry); bin b covers
-   [4 b / BINS, 4 (b + 1) / BINS). */
+/* Pseudo-angles in [0, 4) ("diamond angle": monotone in angle, quarter turn per unit, no trigonometry); bin b covers [4
+   b / BINS, 4 (b + 1) / BINS). */
 typedef struct pvs__hz {
 	double eu, ev, H, w; /* eye; bin width (pseudo-angle) */
 	double dir[PVS__HZ_BINS + 1][2]; /* ray direction per bin boundary (unnormalized) */
@@ -20748,8 +20743,8 @@ PVS__STATIC void pvs__hz_init(pvs__hz *z) {
 }
 PVS__STATIC double pvs__hz_lo(const pvs__hz *z, int32_t b) { return b * z->w; }
 PVS__STATIC double pvs__hz_hi(const pvs__hz *z, int32_t b) { return b + 1 == PVS__HZ_BINS ? 4.0 : (b + 1) * z->w; }
-/* Bin of pseudo-angle a, matching pvs__hz_lo / hi (w is no power of two: floor(a / w) can put angle just below b w in
-   bin b, so facade ending there would claim bin b - 1). */
+/* Bin of pseudo-angle a, matching pvs__hz_lo / hi (w not power of 2: floor(a / w) can put angle just below b w in bin
+   b, so facade ending there would claim bin b - 1). */
 PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
 	int32_t b = (int32_t)floor(a / z->w);
 	b = b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
@@ -20823,7 +20818,7 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	if (!(pvs__dabs(cr) > 1e-12 * (q[0] * q[0] + q[1] * q[1] + p[0] * p[0] + p[1] * p[1]))) return; /* seen edge-on */
 	/* occluder left of pf -> qf; only facades seen from outside matter: sight lines enter through one */
 	if (!(cr < 0.0)) return;
-	/* CCW from p (angle a) to q (angle b), under a half turn */
+	/* CCW from p (angle a) to q (angle b), under half turn */
 	a = pvs__hz_angle(p[0], p[1]);
 	b = pvs__hz_angle(q[0], q[1]);
 	t = -(p[0] * (q[0] - p[0]) + p[1] * (q[1] - p[1])) / len2;
@@ -20930,7 +20925,7 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
 			if (!((double)pvs__hz_query(z, k % PVS__HZ_BINS, dmin) > need)) return 1;
 		return 0;
 	}
-	/* wide boxes: per bin, rectangle's least distance in its wedge (at rays, inner corners, nearest point) */
+	/* wide boxes: per bin, rectangle's min distance in its wedge (at rays, inner corners, nearest point) */
 	x0 = bx->min[u] - z->eu; x1 = bx->max[u] - z->eu; y0 = bx->min[v] - z->ev; y1 = bx->max[v] - z->ev;
 	ca[0] = pvs__hz_angle(x0, y0);
 	ca[1] = pvs__hz_angle(x1, y0);
@@ -20989,7 +20984,7 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
 	}
 }
 
-/* Cell's three walks (pvs_shrink_cell checks o->scene is cell's). */
+/* Cell's 3 walks (pvs_shrink_cell checks o->scene is cell's). */
 typedef struct pvs__shrink_walk {
 	const pvs_occluders *o;
 	pvs__hz *hz;
@@ -21054,9 +21049,9 @@ PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *
 }
 
 /* §3: "sample points need only be placed on the edges of the top of the view cells". Heightfield occluder O, point P
-   outside cell's footprint R, V on top face (height H) seeing P. In vertical plane through P, V the ground segment
-   crosses R's boundary at W'. If P not above H, P-W' lies above P-V: W' sees P; else V moved away from P to boundary
-   point W: P-W stays above P-V up to V, above H beyond, where no column of O in R reaches. With O the shrunk occluder's
+   outside cell's footprint R, V on top face (height H) seeing P. In vertical plane through P, V ground segment crosses
+   R's boundary at W'. If P not above H, P-W' lies above P-V: W' sees P; else V moved away from P to boundary point W:
+   P-W stays above P-V up to V, above H beyond, where no column of O in R reaches. With O = shrunk occluder's
    eps-neighbourhood (no real sight line enters it), edges decide if no column within eps of R rises above H - eps (with
    appendix's theorem). */
 PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
@@ -21145,7 +21140,7 @@ done:
 #define PVS__SHRINK_RES 64u
 
 /* 1 if box bx may reach into view from p along axis dax (positive if pos): lateral offsets within 1.1 x distance ahead,
-   superset of 1.6 rad square frustum with room for rounding. *dn, *df: least, greatest depth. */
+   superset of 1.6 rad square frustum with room for rounding. *dn, *df: min, max depth. */
 PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, int pos, double *dn, double *df) {
 	int l;
 	double lim;
@@ -21158,8 +21153,8 @@ PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, 
 	return 1;
 }
 
-/* Box bx's image from p along dax, lateral offset / distance ahead on other axes: r[0..1] least, r[2..3] greatest. 0 if
-   within 1e-3 of its depth of eye plane. */
+/* Box bx's image from p along dax, lateral offset / distance ahead on other axes: r[0..1] min, r[2..3] max. 0 if within
+   1e-3 of its depth of eye plane. */
 PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax, double dn, double df, double r[4]) {
 	int k;
 	if (!(dn > 1e-3 * df)) return 0;
@@ -21210,9 +21205,9 @@ PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, in
 	return ncand;
 }
 
-/* One view of cube at sample p (§2.3), direction dir (axis dir / 2, positive if odd): candidates tested in occludee
-   mode against eroded boxes nearer than farthest candidate whose image meets theirs (no other changes a test); passing
-   ones join w->seen. */
+/* One view of cube at sample p (§2.3), direction dir (axis dir / 2, positive if odd): candidates tested as occludees
+   against eroded boxes nearer than farthest candidate whose image meets theirs (no other changes test); passing ones
+   join w->seen. */
 PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir) {
 	const pvs_occluders *o = w->o;
 	uint32_t i, nb = o->box_count, nsel = 0, ncand;
@@ -21238,7 +21233,7 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
 	PVS__FOR3(k) cam.eye[k] = p[k];
 	cam.forward[dax] = dir & 1 ? 1.0f : -1.0f;
 	cam.up[(dax + 1) % 3] = 1.0f;
-	cam.fov_y = 1.6f; /* a little over 90 degrees: six frusta overlap */
+	cam.fov_y = 1.6f; /* just over 90 degrees: 6 frusta overlap */
 	cam.near_plane = w->nearp;
 	if (pvs_camera_matrix(&cam, 1.0f, m) != PVS_OK) return;
 	pvs_raster_clear(w->r);
@@ -21250,7 +21245,7 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
 }
 
 /* Samples of cell face `face` (axis face / 2, max side if odd) at spacing <= `spacing`, corners included, each looking
-   six ways; UNSUPPORTED past 1024 a side. */
+   6 ways; UNSUPPORTED past 1024 a side. */
 PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, uint32_t face, float spacing,
 										pvs_error *err) {
 	int ax = (int)face / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
@@ -21276,9 +21271,9 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
 	return PVS_OK;
 }
 
-/* 3D path (§2.1, 2.3): samples on cell's six faces at spacing <= eps sqrt(2) (sight lines from inside leave through
-   boundary, all within eps of sample), each a cube of six depth maps of eroded boxes; PVS: their union. Objects within
-   twice near distance are set (cube sees nothing nearer than its near plane). */
+/* 3D path (§2.1, 2.3): samples on cell's 6 faces at spacing <= eps sqrt(2) (sight lines from inside leave through
+   boundary, all within eps of sample), each cube of 6 depth maps of eroded boxes; PVS: their union. Objects within 2x
+   near distance are set (cube sees nothing nearer than its near plane). */
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
 									  pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
 	pvs_raster_desc rd;
@@ -21364,7 +21359,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 	st.mode = mode;
 	st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
 	{
-		/* leaking cell synthesis left out (or box in one): solid is proved for others only */
+		/* leaking cell synthesis left out (or box in one): solid proved for others only */
 		uint32_t i;
 		int k;
 		for (i = 0; i < o->info.excluded_cells && !st.excluded; ++i) {
@@ -21397,11 +21392,11 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 	return res;
 }
 
-/* ---- SHRINK bake method (row of >>bake's table) ---- */
+/* ---- SHRINK bake method (>>bake's table row) */
 
-/* Default eps: an eighth of cells' median smallest ground extent (Wonka 2000 §4.1: 1 m for cells of several metres),
-   in double (cell 6e38 wide has no float extent), clamped to [a millionth of scene's diagonal (no underflow to 0),
-   diagonal]. Any eps > 0 is conservative. */
+/* Default eps: 1/8 of cells' median smallest ground extent (Wonka 2000 §4.1: 1 m for cells of several metres), in
+   double (cell 6e38 wide has no float extent), clamped to [1e-6 of scene's diagonal (no underflow to 0), diagonal]. Any
+   eps > 0 is conservative. */
 PVS__STATIC double pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
 	double e = (double)c->max[u] - c->min[u], f = (double)c->max[v] - c->min[v];
 	return f < e ? f : e;
@@ -21431,7 +21426,7 @@ PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint
 typedef struct pvs__shrink_bake {
 	pvs_allocator allocator;
 	pvs_occluders *occluders;
-	pvs_occluders *occluders_leak; /* built with every cell seeding, for cells the first left out */
+	pvs_occluders *occluders_leak; /* built with every cell seeding, for cells first left out */
 	pvs_shrink_mode mode;
 } pvs__shrink_bake;
 
@@ -21484,7 +21479,7 @@ PVS__STATIC int pvs__shrink_bake_applies(const void *state, const char **why) {
 	return 1;
 }
 
-/* SHRINK tests only candidates: other drawable objects are preset in `bits` (caller's intersection removes them);
+/* SHRINK tests only candidates: other drawable objects preset in `bits` (caller's intersection removes them);
    pvs_shrink_cell skips them. */
 PVS__STATIC void pvs__shrink_bake_preset(const pvs__bake_env *env, const pvs_word *candidates, pvs_word *bits) {
 	uint32_t i;
@@ -21591,7 +21586,7 @@ struct pvs_bake {
 	unsigned char *restored; /* per task: restored (no stats) */
 	float max_distance;
 	unsigned char *cell_flags; /* per task, written by it: PVS__BAKE_* */
-	uint32_t drawable; /* objects that can be in PVS */
+	uint32_t drawable; /* objects possibly in PVS */
 	uint32_t adaptive_budget; /* adaptive cells (§6.1); 0 = off */
 	float adaptive_min_size;
 	uint32_t *object_triangles;/* adaptive: triangles per object */
@@ -21609,7 +21604,7 @@ typedef struct pvs__bakeleaves {
 	pvs_word *pvs; /* count * words */
 } pvs__bakeleaves;
 
-/* ---- method table ---- */
+/* ---- method table */
 
 /* Every method driver runs, in pvs_method order (AUTO's order among equal costs). */
 PVS__STATIC const pvs__bake_method *const pvs__bake_methods[] = {
@@ -21822,8 +21817,8 @@ PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, co
 /* AUTO: `mask`'s methods, cheapest first, each prepared, kept if it can cull here; PREVIEW stops at first kept;
    UNSUPPORTED ones skipped (reason kept). Cheapest: cost_rank's order, or with sample (sb) pvs__bake_price's. Each kept
    method then bakes sd's cells into sb (per cell slots: run[k]'s PVS, U their intersection, R what rays aimed at U
-   prove visible, greedy choice's); one priced d classes above cheapest kept is not prepared if PVS_AUTO_MIN_GAIN 2^d of
-   U passes U - R (no method culls R; no sample: R empty). */
+   prove visible, greedy choice's); one priced d classes above cheapest kept not prepared if PVS_AUTO_MIN_GAIN 2^d of U
+   passes U - R (no method culls R; no sample: R empty). */
 #define PVS__SAMPLE_SLOTS (PVS_METHOD_COUNT + 3)
 PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, const pvs_bake_desc *sd,
 										uint32_t mask, pvs_word *sb, pvs_error *err) {
@@ -21890,13 +21885,13 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 
 /* AUTO's sample (CONCEPTS, Methods): applicable methods prepared for PVS_AUTO_SAMPLE_CELLS cells spread over all cells
    (shard's too: shards decide alike), each baking them alone. Greedily, smallest PVS's method kept (ties: cheaper),
-   then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it, doubled per class (pvs__bake_price)
-   above first kept's, halved below. The kept are prepared for every cell. */
+   then, best ratio first, those culling beyond kept PVS_AUTO_MIN_GAIN of it, doubled per class (pvs__bake_price) above
+   first kept's, halved below. Kept ones prepared for every cell. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
 
-/* Greedy choice over sample cells' PVSs in sb (pvs__bake_choose): b->run keeps the chosen. */
+/* Greedy choice over sample cells' PVSs in sb (pvs__bake_choose): b->run keeps chosen. */
 PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, uint32_t S, pvs_word *sb) {
 	uint32_t n = b->run_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
 	int c0 = 0, price[PVS_METHOD_COUNT];
@@ -21908,7 +21903,7 @@ PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, u
 		keep[k] = 0;
 		price[k] = pvs__bake_price(b, b->run[k], desc); /* once: PORTAL's casts rays, SHRINK's reads every cell */
 	}
-	while (kept < n) { /* next: largest gain over kept intersection, by its price */
+	while (kept < n) { /* next: max gain over kept intersection, by its price */
 		uint32_t best = n;
 		int best_price = 0;
 		double best_gain = -1.0, sum, need;
@@ -22105,7 +22100,7 @@ PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits
 	return n;
 }
 
-/* Adaptive split (Durand 2000 §6.1) of box with PVS work[depth]: leaf if PVS fits budget or a half < min_size, else
+/* Adaptive split (Durand 2000 §6.1) of box with PVS work[depth]: leaf if PVS fits budget or half < min_size, else
    halves across longest side, low first, baked from its PVS. work: 48 bitsets; each: run_count + 1. */
 PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size,
 									   pvs_word *work, pvs_word *each, uint32_t depth, pvs_error *err) {
@@ -22447,7 +22442,7 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__CTX_COUNT 76u /* record coding's contexts */
 #define PVS__MODL_HEAD (8u + 2u * PVS__CTX_COUNT)
 #define PVS__ORDER_SAMPLE 2048u /* cells whose PVSs order objects */
-#define PVS__ORDER_WINDOW 1024u /* unused objects each step of the order searches */
+#define PVS__ORDER_WINDOW 1024u /* unused objects each step of order searches */
 
 PVS__STATIC size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 
@@ -22464,7 +22459,7 @@ PVS__STATIC size_t pvs__put_varint(uint8_t *p, uint32_t v) {
 PVS__STATIC size_t pvs__varint_size(uint32_t v) {
 	return v < (1u << 7) ? 1 : v < (1u << 14) ? 2 : v < (1u << 21) ? 3 : v < (1u << 28) ? 4 : 5;
 }
-/* Varint at p[0..end): bytes used, 0 if overlong, over 32 bits or cut off. */
+/* Varint at p[0..end): bytes used, 0 if overlong, > 32 bits or cut off. */
 PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_t *v) {
 	uint32_t r = 0;
 	size_t n;
@@ -22539,15 +22534,15 @@ PVS__STATIC uint64_t pvs__load64(const uint8_t *s) { /* little-endian; one load 
 PVS__STATIC uint32_t pvs__zigzag(int64_t d) { return (uint32_t)(d >= 0 ? 2 * (uint64_t)d : 2 * (uint64_t)(-d) - 1u); }
 PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z >> 1) + 1u) : (int64_t)(z >> 1); }
 
-/* ---- record coding: each bit of a cell's PVS, in file's object order, by binary arithmetic coding (Witten, Neal and
+/* ---- record coding: each bit of cell's PVS, in file's object order, by binary arithmetic coding (Witten, Neal and
    Cleary 1987; carryless 32-bit bounds as in Mahoney's PAQ) with file's fixed probability per context: bit in base cell
-   (none for a key), its neighbours there, bits just coded. A 64-object word, and a byte of a changed one, equal to
-   base's costs one flag, so a delta decodes in time of its changed bytes. ---- */
+   (none for key), its neighbours there, bits just coded. 64-object word, and byte of changed one, equal to base's costs
+   one flag, so delta decodes in time of its changed bytes. ---- */
 
-/* Adaptive probability (compact bake's PVSs): 1/16 of the way toward the bit coded. */
+/* Adaptive probability (compact bake's PVSs): 1/16 of way toward bit coded. */
 #define PVS__ADAPT(p, y) ((uint16_t)((y) ? (p) + ((4096u - (p)) >> 4) : (p) - ((p) >> 4u) + 0u))
 
-#define PVS__CTX_FLAG 64u /* after the 64 bit contexts, 4 word flags (key, previous word changed), 4 byte flags */
+#define PVS__CTX_FLAG 64u /* after 64 bit contexts, 4 word flags (key, previous word changed), 4 byte flags */
 #define PVS__CTX_BYTE 68u
 /* Bit's context: key, base bit, previous bit and its base bit, next base bit, bit before previous. */
 #define PVS__CTX(key, b, pc, pb, nb, pc2) ((key) | (b) << 1 | (pc) << 2 | (pb) << 3 | (nb) << 4 | (pc2) << 5)
@@ -22597,7 +22592,7 @@ PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint
 				PVS__AC_GET();
 				bf = y;
 			}
-			if (!ch || !bf) { /* byte or word as in base: its last two bits are context */
+			if (!ch || !bf) { /* byte or word as in base: its last 2 bits are context */
 				if (!ch) e = lim;
 				if ((w << 6) + e < n) {
 					pc2 = (uint32_t)pvs_bitset_test(bits, pvs__order_at(f, (w << 6) + e - 2));
@@ -22628,7 +22623,7 @@ PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint
 }
 
 #ifndef PVS_RUNTIME_ONLY /* bake's compact PVSs, encoder */
-/* Encoder: bytes to out (only counted if out is NULL), or counts contexts. */
+/* Encoder: bytes to out (only counted if out NULL), or counts contexts. */
 typedef struct pvs__ac {
 	uint32_t x1, x2;
 	uint8_t *out;
@@ -22662,11 +22657,11 @@ PVS__STATIC uint32_t pvs__ac_bit(pvs__ac *a, uint32_t ctx, uint32_t y) {
 	return y;
 }
 
-/* ---- encoder ---- */
+/* ---- encoder */
 
 /* Compact bake's task PVS: coding byte, then pvs__set_write's body (re-running task replaces it). */
 PVS__STATIC void pvs__rec_code(pvs__ac *a, const pvs_word *x, const pvs_word *y, uint32_t n);
-/* Compact bake's PVS of a task: a key record in id order, probabilities adapted as coded (re-running replaces it). */
+/* Compact bake's PVS of task: key record in id order, probabilities adapted as coded (re-running replaces it). */
 PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word *bits, pvs_error *err) {
 	uint16_t learn[PVS__CTX_COUNT];
 	uint8_t *p = NULL;
@@ -22725,7 +22720,7 @@ PVS__STATIC uint32_t pvs__count_below(const float *t, uint32_t n, float v, int o
 	return lo;
 }
 
-/* ---- stored cell look-up tree ---- */
+/* ---- stored cell look-up tree */
 
 /* File's look-up tree (manual's TREE), implicit: look-up reads one split per level, then one leaf; its split rule never
    copies touching neighbours. */
@@ -22843,7 +22838,7 @@ typedef struct pvs__link {
 } pvs__link;
 
 
-/* All the encoder allocates, freed in one place. */
+/* All encoder allocates, freed in one place. */
 typedef struct pvs__encoder {
 	pvs_allocator a;
 	const pvs_file_desc *d;
@@ -22868,11 +22863,11 @@ typedef struct pvs__encoder {
 	size_t heap_capacity;
 	uint32_t *base, *depth; /* PVS_NO_CELL for keys */
 	unsigned char *placed;
-	pvs_word *rows; /* pvs_row's two buffers; rows it gave, of cells row_of */
+	pvs_word *rows; /* pvs_row's 2 buffers; rows it gave, of cells row_of */
 	const pvs_word *row[2];
 	uint32_t row_of[2];
 	uint32_t *order, *pos, order_bits; /* MODL: position -> object, object -> position; 0 bits: identity */
-	pvs_word *prow; /* two rows in file's order, of cells prow_of */
+	pvs_word *prow; /* 2 rows in file's order, of cells prow_of */
 	uint32_t prow_of[2];
 	uint16_t prob[PVS__CTX_COUNT];
 	uint8_t *buf; /* one record's payload */
@@ -22928,7 +22923,7 @@ PVS__STATIC const pvs_word *pvs__encoder_prow(pvs__encoder *e, uint32_t i, int s
 	}
 	return p;
 }
-/* Estimated record bytes of cell i against base j (PVS_NO_CELL: key): a flag and the bits of each changed word. */
+/* Estimated record bytes of cell i against base j (PVS_NO_CELL: key): flag and bits of each changed word. */
 PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) {
 	const pvs_word *x = pvs__encoder_prow(e, i, 0), *y = j == PVS_NO_CELL ? NULL : pvs__encoder_prow(e, j, 1);
 	uint64_t bits = 24;
@@ -22941,10 +22936,10 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
 }
 
 /* Bases: edges from each cell to its nearest (kD-tree sweep), virtual root joined to all at key size; Prim's tree from
-   root, edge weighed on reach by delta's coded size plus lambda per level of its base's depth, taken only while its
-   chain stays within K (greedy depth-bounded minimum arborescence); root's children are keys. Greedy chains run deep,
-   leaving later cells baseless; depth price keeps them short: of lambda 0, 2, 4, 8 bytes, tree of smallest coded sizes
-   wins (ties: lower). Coded sizes cached on edges. Deterministic ties: (weight, cell, base). */
+   root, edge weighed on reach by delta's coded size + lambda per level of its base's depth, taken only while its chain
+   stays within K (greedy depth-bounded minimum arborescence); root's children are keys. Greedy chains run deep, leaving
+   later cells baseless; depth price keeps them short: of lambda 0, 2, 4, 8 bytes, tree of smallest coded sizes wins
+   (ties: lower). Coded sizes cached on edges. Deterministic ties: (weight, cell, base). */
 PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size);
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
 	const pvs_allocator *a = &e->a;
@@ -22952,7 +22947,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	size_t k, m;
 	uint64_t best_size = UINT64_MAX;
 	pvs_result r = PVS_OK;
-	if (e->edges) goto choose; /* graph built by an earlier plan: only weights change with the order */
+	if (e->edges) goto choose; /* graph built by earlier plan: only weights change with order */
 	e->edge_capacity = (size_t)e->cells * PVS__CANDIDATES;
 	e->edges = PVS__ALLOC_N(a, pvs__link, e->edge_capacity);
 	e->adj_start = PVS__ALLOC_N(a, uint32_t, (size_t)e->cells + 1);
@@ -23350,7 +23345,7 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	return r;
 }
 
-/* TREE: D = smallest depth giving leaves of about PVS__TREE_LEAF cells. */
+/* TREE: D = smallest depth giving leaves of ~PVS__TREE_LEAF cells. */
 PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err) {
 	pvs__tbuild tb;
 	pvs_result r;
@@ -23615,7 +23610,7 @@ done:
 
 #endif /* PVS_RUNTIME_ONLY */
 
-/* ---- reader ---- */
+/* ---- reader */
 
 /* Located record (opened files only). */
 typedef struct pvs__rec {
@@ -23638,14 +23633,14 @@ PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
 	r->base = zz ? (uint32_t)((int64_t)cell - pvs__unzigzag(zz)) : PVS_NO_CELL;
 }
 
-/* w bits at bit pos of s (one 64-bit read when s[pos / 8 + 7] is before end). */
+/* w bits at bit pos of s (one 64-bit read when s[pos / 8 + 7] before end). */
 PVS__STATIC uint32_t pvs__bits_at(const uint8_t *s, uint64_t pos, uint32_t w, const uint8_t *end) {
 	if (w && (size_t)(end - s) >= (size_t)(pos >> 3) + 8)
 		return (uint32_t)((pvs__load64(s + (size_t)(pos >> 3)) >> (pos & 7u)) & (((uint64_t)1 << w) - 1u));
 	return pvs__get_bits(s, pos, w);
 }
 
-/* Coordinate i of CELL's table k: f32, or (base + g) 2^e, g 16 bits (in float where that is exact). */
+/* Coordinate i of CELL's table k: f32, or (base + g) 2^e, g 16 bits (in float where exact). */
 PVS__STATIC float pvs__cell_value(const pvs_file *f, uint32_t k, uint32_t i) {
 	const uint8_t *t = f->private_.values[k];
 	int32_t m;
@@ -23786,8 +23781,8 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 	return PVS_OK;
 }
 
-/* RECS: each record's structure, then chains: from every cell at most max_chain bases reach a key, so none cycles and
-   decoding applies at most max_chain deltas. Linear in section (n K record look-ups). */
+/* RECS: each record's structure, then chains: from every cell <= max_chain bases reach key, so none cycles and decoding
+   applies <= max_chain deltas. Linear in section (n K record look-ups). */
 PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size,
 										 pvs_error *err) {
 	uint64_t off = (uint64_t)(rs - base);
@@ -23831,7 +23826,7 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 	}
 	if (keys != f->key_count)
 		return PVS__FAIL(err, PVS_ERROR_BAD_HEADER, "META says %u key cells, the records have %u", f->key_count, keys);
-	for (i = 0; i < f->cell_count; ++i) { /* <= K bases to a key: no cycle, decode's chain bound (n K steps) */
+	for (i = 0; i < f->cell_count; ++i) { /* <= K bases to key: no cycle, decode's chain bound (n K steps) */
 		pvs__rec r;
 		uint32_t c = i, k;
 		for (k = 0; k <= f->max_chain && c != PVS_NO_CELL; ++k, c = r.base) pvs__record_at(f, c, &r);
@@ -23842,8 +23837,8 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 	return PVS_OK;
 }
 
-/* MODL: context count, order width (0 or the bits for object_count - 1), probabilities 1..4095, order's ids < object
-   count; unused bits zero. A repeated id only garbles PVSs, as any payload can. */
+/* MODL: context count, order width (0 or bits for object_count - 1), probabilities 1..4095, order's ids < object count;
+   unused bits 0. Repeated id only garbles PVSs, as any payload can. */
 PVS__STATIC pvs_result pvs__open_model(pvs_file *f, const uint8_t *base, const uint8_t *m, uint32_t size,
 									   pvs_error *err) {
 	uint64_t off = (uint64_t)(m - base), nbits;
@@ -23951,7 +23946,7 @@ PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t c
 	return PVS_OK;
 }
 
-/* Bytes outside header, table, sections must be zero: each byte of valid file is checksummed or fixed. */
+/* Bytes outside header, table, sections must be 0: each byte of valid file is checksummed or fixed. */
 PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t count, pvs_error *err) {
 	uint32_t order[PVS__MAX_SECTIONS], i, j, k;
 	size_t pos = PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY;
