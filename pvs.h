@@ -1,4 +1,4 @@
-/* pvs.h - v0.11.5 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.11.6 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -156,7 +156,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 11
-#define PVS_VERSION_PATCH 5
+#define PVS_VERSION_PATCH 6
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -365,13 +365,13 @@ typedef struct pvs_walkable_desc {
 	pvs_allocator allocator; /* scratch */
 } pvs_walkable_desc;
 
-/* View cells where camera can go: floors (opaque, at most max_slope, head_room free above, not in a closed mesh or one
+/* View cells where camera can go: floors (opaque, <= max_slope, head_room free above, not in a closed mesh or one
    open only at its base; vertical ray casts through every storey), samples linked a step apart knee to knee, grouped
-   per cell_size square, open floor merged up to max_merge per side; per group its samples' box plus half a spacing,
-   from a quarter eye height over its lowest floor to eye height over its highest. A seed keeps floors a walk (up a
-   step, or dropping) reaches from nearest one at most a step above it. Writes up to `capacity` boxes (cells may be
-   NULL), *count all found. Deterministic, thread-safe. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW (over 2^26
-   sample columns), OUT_OF_MEMORY. */
+   per cell_size square, open floor merged up to max_merge per side; per group its samples' box + half a spacing, from
+   a quarter eye height over its lowest floor to eye height over its highest. A seed keeps floors a walk (up a step, or
+   dropping) reaches from nearest one <= a step above it. Writes up to `capacity` boxes (cells NULL ok), *count all
+   found. Deterministic, thread-safe. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW (> 2^26 sample columns),
+   OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable_desc *desc, pvs_box *cells,
 									  uint32_t capacity, uint32_t *count, pvs_error *err);
 
@@ -672,9 +672,8 @@ typedef struct pvs_visibility_2d_desc {
 
 /* Segments (and objects) seen from a cell point along a line crossing no other segment (touching an end point does not
    block; segments crossing cell are visible): exact, rounding toward visible. visible_segments, visible_objects
-   (PVS_BITSET_WORDS of segment_count, object_count; may be NULL, like stats) cleared first. Errors: INVALID_ARGUMENT,
-   NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe; allocates via
-   desc->allocator. */
+   (PVS_BITSET_WORDS of segment_count, object_count; NULL ok, like stats) cleared first. Errors: INVALID_ARGUMENT,
+   NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe; desc->allocator. */
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
 									 pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err);
 
@@ -760,8 +759,8 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
    triangle (>>occluders, "certified solid"), or is in an explicit occluder volume. Openings narrower than a voxel stay
    open; a crack or T-junction (edge of an odd count of triangles) gives no volume on vertical sheet below it;
    enclosures made only by several meshes together are missed. Solids erode by eps (rounding toward less solid) into
-   boxes (3D) and column heights (2.5D). Leaks: few cells reaching outside box of component holding most cells are left
-   out of later floods, so the rest keep their walls (pvs_occluders_excluded_cells). */
+   boxes (3D) and column heights (2.5D). Leaks: few cells reaching outside box of component holding most cells leave
+   later floods, so the rest keep their walls (pvs_occluders_excluded_cells). */
 typedef struct pvs_occluders_desc {
 	const pvs_scene *scene; /* required; must outlive occluders */
 	const pvs_box *cells; /* required: cell_count >= 1 view cells, flood sources */
@@ -890,8 +889,8 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
 
 /* Rebuilds a PVS (Koltun 2000 §2, §4): sets in `visible` (object bitset, cleared first) every object with a non-empty
    box no single occluder hides (tried in order). With a `tree` over same boxes (item i = object i; best with 16+ items
-   a leaf) a subtree is skipped if one occluder hides its node box (an object behind several occluders may drop out too;
-   still conservative); tree NULL tests every box. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors:
+   a leaf) a subtree is skipped if one occluder hides its node box (an object behind several may drop out too: still
+   conservative); tree NULL tests every box. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors:
    INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation; thread-safe. */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders,
 										   uint32_t count, const pvs_box *object_boxes, uint32_t object_count,
@@ -1870,8 +1869,8 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 /* ---- bake's method table (what >>bake's driver knows) */
 
 /* A bake method: a row of >>bake's pvs__bake_methods, functions over per-bake state. Driver checks all methods'
-   parameters, prepares those bake may run, keeps those that can cull in scene (AUTO), runs each on every cell,
-   intersects their PVSs. New method: its module + a row. */
+   parameters, prepares those bake may run, keeps those that can cull (AUTO), runs each on every cell, intersects their
+   PVSs. New method: its module + a row. */
 
 /* What a method sees of bake: `cells` every cell, not just shard's (prepare agrees between shards; caller's, set during
    prepare only); `task_cells` shard's, one per task. */
@@ -2469,10 +2468,9 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
 	return s->occluders + i;
 }
 
-/* Scene's 2.5D facades for >>vocc: consecutive triangle pairs forming a vertical rectangle with bottom at or below
-   scene's lowest point, others left out (conservative; pvs__facades_extract would change vocc's results). *count
-   6-float facades (u0 v0 u1 v1 top bottom) in triangle order into new *out (6 count + 6 floats, allocator a; NULL on
-   failure). */
+/* Scene's 2.5D facades for >>vocc: consecutive triangle pairs forming a vertical rectangle with bottom <= scene's
+   lowest point, others left out (conservative; pvs__facades_extract would change vocc's results). *count 6-float
+   facades (u0 v0 u1 v1 top bottom) in triangle order into new *out (6 count + 6 floats, allocator a; NULL: failure). */
 PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocator *a, float **out, uint32_t *count) {
 	int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
 	float ground = s->bounds.min[up];
@@ -2600,10 +2598,10 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 	return PVS_OK;
 }
 
-/* Splits `node` (refs[base .. base + n) atop stack, cell `box`) or makes it a leaf. Binned SAH, all three axes (Bittner
-   2002 §4.4; binning after Wald 2007); counts exact for closed-interval split below (but sampled in big nodes).
-   Budgets (straddling boxes go both sides: boxes overlapping everywhere would make memory quadratic): two pools set by
-   pvs_kdtree_create, of references a split adds (l + r - n) and nodes (two per split); a split they cannot pay is not
+/* Splits `node` (refs[base..base + n) atop stack, cell `box`) or makes it a leaf. Binned SAH, all 3 axes (Bittner 2002
+   §4.4; binning after Wald 2007); counts exact for closed-interval split below (sampled in big nodes). Budgets
+   (straddling boxes go both sides: boxes overlapping everywhere would make memory quadratic): 2 pools set by
+   pvs_kdtree_create, of references a split adds (l + r - n) and nodes (2 per split); a split they cannot pay is not
    taken (bigger leaf). Pools spent in build order: tree within them is the one built without. */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
 									 uint32_t depth) {
@@ -2892,8 +2890,8 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
 	return PVS_VISIT_DESCEND;
 }
 
-/* Approximate occlusion sweep (Bittner 2002 §3.2): priority queue on nodes' min distance to source (never smaller for
-   child). `heap`: (node_count + 1) / 2 entries; `node` (may be NULL) gets visited node's index in each `visit`. */
+/* Approximate occlusion sweep (Bittner 2002 §3.2): priority queue on nodes' min distance to source (never less for
+   child). `heap`: (node_count + 1) / 2 entries; `node` (NULL ok) gets visited node's index in each `visit`. */
 PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 							   pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
 	size_t n = 1;
@@ -15401,18 +15399,18 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
    convex meshes of scene triangles (joined by shared or split vertices: pvs__po_solids; each directed edge matched by
    its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles), not explicit occluder volumes
    (rays pass them). BSP on their face planes (q3map2's BuildTree: fragments split by planes they straddle) ends in
-   leaves inside solid or outside all: empty ones are rooms. Planes closer than input's float resolution are one
+   leaves in solid or outside all: empty ones are rooms. Planes closer than input's float resolution are one
    (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size): touching solids leave no crack. Portal: empty leaf's face with
    empty leaf beyond, pushed down tree, split by planes it straddles (Teller 1992 §3.3). Segment between rooms missing
    all solids crosses portals of leaves it passes, in order. Other triangles block nothing here.
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): segment from x in view cell C through portals
    P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: lines' source is C_j, C clipped to
-   that side (empty: no such line). Beyond Pj segment stays behind every separating plane of C_j (or P(j-1)) and its
-   crossing region on Pj. Each step P -> Q (or start leaf's portal Q) keeps hull R of regions so found on Q; region W (Q
-   clipped by step's planes into P) outside R grows R to hull(R, W), queues step: monotone fixed point (as q3map2's
-   might-see pruning); by induction each crossing point lies in its step's R. Objects of leaf entered via Q (or
-   overlapped by C) are kept if triangle's part in leaf is behind all step's planes, as visible points are. Past
+   that side (empty: no such line). Beyond Pj segment stays behind every separating plane of C_j and its crossing
+   region on Pj, and of P(j-1) and Pj. Each step P -> Q (or start leaf's portal Q) keeps hull R of regions so found on
+   Q; region W (Q clipped by step's planes into P) outside R grows R to hull(R, W), queues step: monotone fixed point
+   (as q3map2's might-see pruning); by induction each crossing point lies in its step's R. Objects of leaf entered via
+   Q (or overlapped by C) are kept if triangle's part in leaf is behind all step's planes, as visible points are. Past
    `budget` portal clips: all objects of reachable empty leaves (conservative cut-off). */
 
 #define PVS__PO_MAXW 64u /* clipped winding vertices */
@@ -15423,6 +15421,7 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 #define PVS__PO_CANDIDATES 48u /* split planes scored per node */
 #define PVS__PO_GROWS 12u /* region growths before whole portal */
 #define PVS__PO_SRCS 64u /* clipped cell boxes kept per cell */
+#define PVS__PO_STEPS (1u << 20) /* steps whose planes are kept (and 4 planes a step on average) */
 #define PVS__PO_NORMAL_EPS 1e-6
 #define PVS__PO_DIST_EPS 1e-7 /* x scene size */
 #define PVS__PO_LEAF 0x80000000u /* child id bit: leaf */
@@ -15481,6 +15480,9 @@ typedef struct pvs__poprep {
 	size_t portal_v_count, portal_v_cap;
 	uint32_t *lp_first, *lp; /* per leaf: portals out (leaf_count + 1, portal_count) */
 	uint32_t *ep_first; /* per portal P first step P -> Q, Q out of leaf `to` (portal_count + 1) */
+	size_t *sp_first; /* per step P -> Q its first plane in sp (steps + 1): P's and Q's separating planes */
+	double (*sp)[4];
+	size_t sp_cap;
 	/* objects per empty leaf */
 	uint32_t *lo_first, *lo, *lo_pairs; /* lo_pairs: (leaf, object) while building */
 	size_t lo_count, lo_cap;
@@ -16189,7 +16191,7 @@ typedef struct pvs__po_win {
 
 /* Step state (start leaf's portal q, or step src -> q): where lines from cell through earlier portals cross q. */
 typedef struct pvs__po_region {
-	uint32_t q, n, grows, from; /* from: portal before q (PVS__PO_NONE: q leaves a start leaf) */
+	uint32_t q, n, grows, from, state; /* from: portal before q (PVS__PO_NONE: q leaves a start leaf); state: step */
 	uint32_t key, queued; /* key: q's nearest vertex's squared distance from cell, float bits (queue's order) */
 	uint32_t vo, vcap; /* its n vertices at flow's pv + vo, room for vcap (a pool: most regions have a few) */
 } pvs__po_region;
@@ -16227,15 +16229,25 @@ typedef struct pvs__po_flow {
 	double bc[6]; /* the box's centre and half sizes */
 } pvs__po_flow;
 
+/* Plane pl (n.x <= pl[3] kept) added to w unless found before (within eps in d, 1e-9 in n) or w full (more lines). */
+PVS__STATIC void pvs__po_add_plane(pvs__po_win *w, const double *pl, double eps) {
+	uint32_t i;
+	for (i = 0; i < w->np; ++i)
+		if (fabs(w->pl[i][3] - pl[3]) <= eps &&
+			fabs(w->pl[i][0] - pl[0]) + fabs(w->pl[i][1] - pl[1]) + fabs(w->pl[i][2] - pl[2]) <= 1e-9)
+			return;
+	if (w->np < PVS__PO_MAXS) memcpy(w->pl[w->np++], pl, sizeof(w->pl[0]));
+}
+
 /* Plane through a, b, c if it separates A (na points, one side within eps) and B (nb, other): added to w keeping B's
-   side (Teller 1992 §5.2 separating plane; dropped if w is full: fewer planes, more lines); 1 if so. box (centre, half
-   sizes) not NULL: A is that box's corners, tested at once. */
+   side (Teller 1992 §5.2 separating plane, pvs__po_add_plane); 1 if so. box (centre, half sizes) not NULL: A is that
+   box's corners, tested at once. */
 PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
 								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps,
 								   const double *box) {
-	/* straight-line: a loop stored e1, e2 word by word, read back as pairs (a stalled store-to-load forward) */
+	/* straight-line (as a loop: a stalled store-to-load forward) */
 	double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-	double n[3], d, len, lo = 0.0, hi = 0.0, sg;
+	double n[4], d, len, lo = 0.0, hi = 0.0, sg;
 	uint32_t i, k;
 	n[0] = e1[1] * e2[2] - e1[2] * e2[1];
 	n[1] = e1[2] * e2[0] - e1[0] * e2[2];
@@ -16263,14 +16275,8 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
 	for (i = 0; i < nb; ++i)
 		if (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d > eps) return 0;
-	for (i = 0; i < w->np; ++i) /* found before (an edge of each set on it): once */
-		if (fabs(w->pl[i][3] + d) <= eps &&
-			fabs(w->pl[i][0] - n[0]) + fabs(w->pl[i][1] - n[1]) + fabs(w->pl[i][2] - n[2]) <= 1e-9)
-			return 1;
-	if (w->np < PVS__PO_MAXS) {
-		PVS__FOR3(k) w->pl[w->np][k] = n[k];
-		w->pl[w->np++][3] = -d;
-	}
+	n[3] = -d;
+	pvs__po_add_plane(w, n, eps);
 	return 1;
 }
 
@@ -16299,12 +16305,12 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 		}
 }
 
-/* Adds winding w to set c: each vertex unless one is within eps, each edge once (either way; lost if c is full: never
-   here, a once-clipped box has <= 7 faces of 5 vertices, a portal <= PVS__PO_MAXW). */
-PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const pvs__po_wind *w, double eps, uint32_t face) {
+/* Adds polygon v (n vertices) to set c: each vertex unless one is within eps, each edge once (either way; lost if c is
+   full: never here, a once-clipped box has <= 7 faces of 5 vertices, a portal <= PVS__PO_MAXW). */
+PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const double (*v)[3], uint32_t n, double eps, uint32_t face) {
 	uint32_t i, k, a, b = PVS__PO_MAXW;
-	for (k = 0; w->n && k <= w->n; ++k, b = a) {
-		const double *x = w->p[k % w->n];
+	for (k = 0; n && k <= n; ++k, b = a) {
+		const double *x = v[k % n];
 		for (a = 0; a < c->n && !(fabs(c->v[a][0] - x[0]) <= eps && fabs(c->v[a][1] - x[1]) <= eps &&
 								  fabs(c->v[a][2] - x[2]) <= eps); ++a) {
 		}
@@ -16336,9 +16342,8 @@ PVS__STATIC void pvs__po_sources(pvs__po_flow *f, int make) {
 	f->srcs = NULL, f->src_plane = NULL;
 }
 
-/* Source of lines crossing portal q from its leaf `from`: cell box clipped to that leaf's side of q's plane, each
-   vertex on a clipped face, in c; a box the plane leaves whole: f->box, made once. NULL if box wholly on other side
-   (no line from cell crosses q so). A clipped set is kept by plane (f->srcs). */
+/* Source of lines crossing portal q from its leaf `from`: cell box clipped to that side of q's plane, in c (kept by
+   plane in f->srcs); a box the plane leaves whole: f->box, made once. NULL if box wholly on other side. */
 PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__po_set *c) {
 	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
 										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
@@ -16366,7 +16371,7 @@ PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__
 		c->fp[i][i >> 1] = (i & 1) ? 1.0 : -1.0;
 		c->fp[i][3] = c->fp[i][i >> 1] * f->c[faces[i][0]][i >> 1];
 		pvs__po_clip(&w, pl, p->eps);
-		pvs__po_set_add(c, &w, p->eps, i);
+		pvs__po_set_add(c, (const double(*)[3])w.p, w.n, p->eps, i);
 	}
 	memcpy(c->fp[6], pl, sizeof(c->fp[6]));
 	for (i = 0; i < c->ne; ++i) /* an edge of one face: the portal's plane's, if both ends are on it */
@@ -16374,6 +16379,19 @@ PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__
 			fabs(pvs__po_dist(pl, c->v[c->e[i][1]])) <= 4.0 * p->eps)
 			c->ef[i][1] = 6;
 	return c->n ? c : NULL;
+}
+
+/* Pass planes of step P -> Q into w (Teller 1992 §5.2: a line crossing Q after P stays behind planes separating them),
+   against all of Q: state's region on Q gives tighter ones at a quarter of a big cell's time (tests/BENCHMARKS.md). */
+PVS__STATIC void pvs__po_step_planes(const pvs__poprep *p, uint32_t P, uint32_t Q, pvs__po_win *w) {
+	const pvs__po_portal *a = p->portals + P, *b = p->portals + Q;
+	pvs__po_set set;
+	set.n = set.ne = set.faces = 0;
+	pvs__po_set_add(&set, (const double(*)[3])p->portal_v[a->first], a->n, p->eps, 7);
+	w->nv = b->to == a->from ? 0 : b->n; /* no step back */
+	w->np = 0;
+	memcpy(w->v, p->portal_v[b->first], w->nv * sizeof(w->v[0]));
+	pvs__po_window_planes(w, &set, 1e-4 * p->tol, p->tol, NULL);
 }
 
 /* 1 if object o has a triangle whose part in empty leaf `leaf` clipped by w's planes (w NULL: none) is not empty
@@ -16502,9 +16520,9 @@ PVS__STATIC int pvs__po_grow(pvs__po_flow *f, uint32_t id, const pvs__po_wind *w
 	return 1;
 }
 
-/* Queue key of a step into portal q: least squared distance of its vertices from the cell box, as float bits (>= 0:
-   order kept). It never falls along a line from the cell: nearest first runs most steps after those feeding them (fewer
-   growths; the fixed point is the same up to PVS__PO_GROWS). */
+/* Queue key of a step into q: min squared distance of q's vertices from cell box, as float bits (>= 0: order kept).
+   It never falls along a line from cell: nearest first runs most steps after those feeding them (fewer growths; fixed
+   point the same up to PVS__PO_GROWS). */
 PVS__STATIC uint32_t pvs__po_key(const pvs__po_flow *f, uint32_t q) {
 	const pvs__po_portal *pt = f->p->portals + q;
 	double best = DBL_MAX;
@@ -16598,6 +16616,7 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t from, u
 		r = f->reg + id;
 		r->q = q;
 		r->from = from;
+		r->state = state;
 		r->n = r->grows = r->vcap = 0;
 		r->key = pvs__po_key(f, q);
 		pvs__po_set_region(f, r, w);
@@ -16607,12 +16626,12 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t from, u
 	if (!f->reg[id].queued) pvs__po_enqueue(f, id);
 }
 
-/* Flow from start leaves (Teller 1992 §5, monotone fixed point: module comment): a state (step into q, region v on q)
-   sends lines from q's source via v into leaf `to`: keeps its objects, offers portals out (clipped) as q -> next. */
+/* Flow from start leaves (Teller 1992 §5, fixed point: module comment): a state (step into q, region v on q) sends
+   lines from q's source via v into leaf `to`: keeps its objects, offers portals out (clipped) as q -> next. */
 PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j, c;
-	pvs__po_win win;
+	pvs__po_win win, win2;
 	pvs__po_wind w;
 	pvs__po_set set;
 	const pvs__po_set *src;
@@ -16630,6 +16649,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	}
 	while (f->heap_count && !f->cut && !f->oom) {
 		uint32_t id = pvs__po_dequeue(f), q, k;
+		size_t s;
 		const pvs__po_portal *pt;
 		q = f->reg[id].q;
 		pt = p->portals + q;
@@ -16638,13 +16658,11 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 		win.np = 0;
 		memcpy(win.v, f->pv[f->reg[id].vo], win.nv * sizeof(win.v[0]));
 		pvs__po_window_planes(&win, src, 1e-4 * p->tol, p->tol, src == &f->box ? f->bc : NULL);
-		if (f->reg[id].from != PVS__PO_NONE) { /* and P(j-1)'s: lines pass both portals */
-			const pvs__po_portal *pf = p->portals + f->reg[id].from;
-			w.n = pf->n;
-			memcpy(w.p, p->portal_v[pf->first], pf->n * sizeof(w.p[0]));
-			set.n = set.ne = set.faces = 0;
-			pvs__po_set_add(&set, &w, p->eps, 7);
-			pvs__po_window_planes(&win, &set, 1e-4 * p->tol, p->tol, NULL);
+		if (f->reg[id].from != PVS__PO_NONE) { /* and P(j-1)'s (kept or made: the same) */
+			size_t e = f->reg[id].state;
+			if (!p->sp_first) pvs__po_step_planes(p, f->reg[id].from, q, &win2);
+			for (s = p->sp_first ? p->sp_first[e] : 0, e = p->sp_first ? p->sp_first[e + 1] : win2.np; s < e; ++s)
+				pvs__po_add_plane(&win, p->sp_first ? p->sp[s] : win2.pl[s], 1e-4 * p->tol);
 		}
 		pvs__po_keep(f, pt->to, &win);
 		for (j = p->lp_first[pt->to]; j < p->lp_first[pt->to + 1]; ++j) {
@@ -16690,6 +16708,29 @@ PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
 	}
 }
 
+/* Every step's pass planes, kept (none past PVS__PO_STEPS or out of memory: made per state, the same). */
+PVS__STATIC void pvs__po_pass_planes(pvs__poprep *p) {
+	size_t n = 0, steps = p->ep_first[p->portal_count], k;
+	uint32_t i, j;
+	pvs__po_win win;
+	if (steps > PVS__PO_STEPS || !(p->sp_first = PVS__ALLOC_N(&p->allocator, size_t, steps + 1))) return;
+	for (i = 0; i < p->portal_count; ++i)
+		for (k = p->ep_first[i], j = p->lp_first[p->portals[i].to]; k < p->ep_first[i + 1]; ++k, ++j) {
+			p->sp_first[k] = n;
+			pvs__po_step_planes(p, i, p->lp[j], &win);
+			if (n + win.np > 4 * PVS__PO_STEPS ||
+				!pvs__grow(&p->allocator, (void **)&p->sp, &p->sp_cap, n + win.np + 1, sizeof(p->sp[0]))) {
+				PVS__FREE_N(&p->allocator, p->sp_first, steps + 1);
+				PVS__FREE_N(&p->allocator, p->sp, p->sp_cap);
+				p->sp_first = NULL, p->sp = NULL, p->sp_cap = 0;
+				return;
+			}
+			memcpy(p->sp + n, win.pl, win.np * sizeof(win.pl[0]));
+			n += win.np;
+		}
+	p->sp_first[steps] = n;
+}
+
 /* ---- method */
 
 PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
@@ -16714,6 +16755,8 @@ PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 	PVS__FREE_N(a, p->portal_v, p->portal_v_cap);
 	PVS__FREE_N(a, p->lp_first, p->leaf_count + 1);
 	PVS__FREE_N(a, p->lp, p->portal_count + 1);
+	if (p->sp_first) PVS__FREE_N(a, p->sp_first, (size_t)p->ep_first[p->portal_count] + 1);
+	PVS__FREE_N(a, p->sp, p->sp_cap);
 	PVS__FREE_N(a, p->ep_first, p->portal_count + 1);
 	PVS__FREE_N(a, p->lo_first, p->leaf_count + 1);
 	PVS__FREE_N(a, p->lo, p->lo_count + 1);
@@ -16842,6 +16885,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 		if (next + p->portal_count >= PVS__PO_NONE) goto done;
 		p->ep_first[i + 1] = (uint32_t)next;
 	}
+	pvs__po_pass_planes(p);
 	for (ob.b = &b, ob.o = 0; ob.o < s->object_count && !b.oom; ++ob.o)
 		if (!(s->object_flags[ob.o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + ob.o))
 			pvs__po_box_down(p, s->object_boxes + ob.o, p->root, pvs__po_object_leaf, &ob);
@@ -16949,8 +16993,8 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	return PVS_OK;
 }
 
-/* AUTO's PORTAL price: class 0, +1 per PVS_AUTO_SAMPLE_CELLS / 4 of cells spread as AUTO's sample whose centre sees sky
-   (ray up meets nothing): out of doors lines pass over every wall, the flow with them. */
+/* AUTO's PORTAL price: class 0, +1 per PVS_AUTO_SAMPLE_CELLS / 4 of AUTO's sample cells whose centre sees sky (ray up
+   meets nothing): out of doors lines pass over every wall, the flow with them. */
 PVS__STATIC int pvs__portal_price(const pvs_bake_desc *desc, const void *state) {
 	uint32_t s, S = PVS_AUTO_SAMPLE_CELLS, k, up = pvs_scene_up_axis(desc->scene);
 	int price = 0;
@@ -24351,9 +24395,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.11.5 (2026-11-30) PORTAL: a plane found twice kept once; a portal's box tested against a plane first; few keys
-   sorted by insertion; a leaf's objects without a part in it dropped at set-up: -18%.
-   0.11.4 (2026-11-29) PORTAL: planes through a source edge tried only from the edge's silhouette side: -6%.
+   0.11.6 (2026-11-30) PORTAL: the planes between a step's two portals made once a bake: -24% on the slowest cells.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

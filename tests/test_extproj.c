@@ -2147,6 +2147,99 @@ static void test_portal_kernels(void) {
                 "answers, %u found twice\n", mismatch, wrong, missed, found, boxes, box_answers, twice);
 }
 
+/* The portal flow's pass planes (pvs__po_pass_planes), made once a bake per step P -> Q, on the indoor generator's
+   rooms: every line through a point of P and a point of Q stays behind each of the step's planes past Q (within
+   rounding), and each plane separates the two (P in front, Q behind) touching both (an edge of one, a vertex of the
+   other), so it bounds those lines tightly. A bake without them kept (made per state, as past PVS__PO_STEPS) gives the
+   same PVSs. */
+static void test_pass_planes(void) {
+    gen_params gp = test_gen_params(GEN_INDOOR, 2, 0.3f, 4);
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s;
+    pvs_bake_desc bd;
+    pvs_bake *bake = NULL;
+    pvs_error e;
+    const pvs__poprep *p;
+    uint64_t st = 77;
+    uint32_t P, j, k, i, steps = 0, planes = 0, wrong = 0;
+    CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
+    s = test_scene(&m, 0);
+    CHECK(s != NULL);
+    test_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_PORTAL);
+    CHECK(s && pvs_bake_begin(&bd, &bake, &e) == PVS_OK);
+    p = bake ? (const pvs__poprep *)pvs__bake_method_state(bake, PVS_METHOD_PORTAL) : NULL;
+    CHECK(p != NULL && p->sp_first != NULL);
+    for (P = 0; p && p->sp_first && P < p->portal_count; ++P) {
+        const pvs__po_portal *pt = p->portals + P;
+        for (j = p->lp_first[pt->to]; j < p->lp_first[pt->to + 1]; ++j) {
+            const pvs__po_portal *q = p->portals + p->lp[j];
+            size_t a = p->sp_first[p->ep_first[P] + (j - p->lp_first[pt->to])], z = p->sp_first[p->ep_first[P] + (j - p->lp_first[pt->to]) + 1];
+            steps += z > a;
+            planes += (uint32_t)(z - a);
+            for (i = 0; i < 64 && z > a; ++i) { /* x on P, y on Q (random convex combinations), points y + t (y - x) */
+                double x[3] = {0, 0, 0}, y[3] = {0, 0, 0}, wx = 0.0, wy = 0.0, t = test_rnd(&st) * 4.0;
+                size_t h;
+                for (k = 0; k < pt->n || k < q->n; ++k) {
+                    double u = test_rnd(&st), v = test_rnd(&st);
+                    uint32_t c;
+                    for (c = 0; c < 3; ++c) {
+                        if (k < pt->n) x[c] += u * p->portal_v[pt->first + k][c];
+                        if (k < q->n) y[c] += v * p->portal_v[q->first + k][c];
+                    }
+                    wx += k < pt->n ? u : 0.0;
+                    wy += k < q->n ? v : 0.0;
+                }
+                for (k = 0; k < 3; ++k) x[k] /= wx, y[k] /= wy;
+                for (h = a; h < z; ++h) {
+                    double d = -p->sp[h][3];
+                    for (k = 0; k < 3; ++k) d += p->sp[h][k] * (y[k] + t * (y[k] - x[k]));
+                    wrong += d > 1e-6 * p->ext;
+                }
+            }
+            for (; a < z; ++a) { /* P in front, Q behind, each touching */
+                double lo = DBL_MAX, hi = -DBL_MAX, np = DBL_MAX, nq = DBL_MAX;
+                for (k = 0; k < pt->n; ++k) {
+                    double d = pvs__po_dist(p->sp[a], p->portal_v[pt->first + k]);
+                    lo = d < lo ? d : lo, np = fabs(d) < np ? fabs(d) : np;
+                }
+                for (k = 0; k < q->n; ++k) {
+                    double d = pvs__po_dist(p->sp[a], p->portal_v[q->first + k]);
+                    hi = d > hi ? d : hi, nq = fabs(d) < nq ? fabs(d) : nq;
+                }
+                wrong += lo < -p->tol || hi > p->tol || np > p->tol || nq > p->tol;
+            }
+        }
+    }
+    CHECK(wrong == 0);
+    CHECK(steps > 20 && planes > 2 * steps);
+    if (wrong || steps <= 20 || planes <= 2 * steps)
+        fprintf(stderr, "  pass planes: %u steps, %u planes, %u wrong\n", steps, planes, wrong);
+    if (p && p->sp_first) {
+        pvs_bake *b2 = NULL;
+        pvs__poprep *p2;
+        uint32_t c, words = PVS_BITSET_WORDS(pvs_scene_object_count(s)), differ = 0;
+        CHECK(pvs_bake_begin(&bd, &b2, &e) == PVS_OK);
+        p2 = b2 ? (pvs__poprep *)pvs__bake_method_state(b2, PVS_METHOD_PORTAL) : NULL;
+        CHECK(p2 != NULL && p2->sp_first != NULL);
+        if (p2 && p2->sp_first) {
+            PVS__FREE_N(&p2->allocator, p2->sp_first, (size_t)p2->ep_first[p2->portal_count] + 1);
+            PVS__FREE_N(&p2->allocator, p2->sp, p2->sp_cap);
+            p2->sp_first = NULL, p2->sp = NULL, p2->sp_cap = 0;
+        }
+        for (c = 0; b2 && c < pvs_bake_task_count(b2); ++c)
+            CHECK(pvs_bake_run_task(bake, c, &e) == PVS_OK && pvs_bake_run_task(b2, c, &e) == PVS_OK);
+        for (c = 0; b2 && c < cells.count; ++c)
+            differ += memcmp(pvs_bake_cell_pvs(bake, c), pvs_bake_cell_pvs(b2, c), words * sizeof(pvs_word)) != 0;
+        CHECK(b2 && differ == 0);
+        pvs_bake_destroy(b2);
+    }
+    pvs_bake_destroy(bake);
+    pvs_scene_destroy(s);
+    mesh_free(&m);
+    mesh_cells_free(&cells);
+}
+
 /* The occlusion sweep on three scenes against ray sampling: 16, 16 and 5 cells in make verify (full), about half
    as many in make test. */
 static void ep_check_sweeps(int full) {
@@ -2167,6 +2260,7 @@ void extproj_verify(void) {
 
 void test_extproj(void) {
     test_portal_kernels();
+    test_pass_planes();
     test_occluder_projection();
     test_occludee_projection();
     test_depth_test();
