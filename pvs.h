@@ -16658,11 +16658,11 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 		win.np = 0;
 		memcpy(win.v, f->pv[f->reg[id].vo], win.nv * sizeof(win.v[0]));
 		pvs__po_window_planes(&win, src, 1e-4 * p->tol, p->tol, src == &f->box ? f->bc : NULL);
-		if (f->reg[id].from != PVS__PO_NONE) { /* and P(j-1)'s (kept or made: the same) */
-			size_t e = f->reg[id].state;
-			if (!p->sp_first) pvs__po_step_planes(p, f->reg[id].from, q, &win2);
-			for (s = p->sp_first ? p->sp_first[e] : 0, e = p->sp_first ? p->sp_first[e + 1] : win2.np; s < e; ++s)
-				pvs__po_add_plane(&win, p->sp_first ? p->sp[s] : win2.pl[s], 1e-4 * p->tol);
+		if (f->reg[id].from != PVS__PO_NONE) { /* and P(j-1)'s (kept, else made: the same) */
+			size_t a = 0, z;
+			if (p->sp_first) a = p->sp_first[f->reg[id].state], z = p->sp_first[f->reg[id].state + 1];
+			else pvs__po_step_planes(p, f->reg[id].from, q, &win2), z = win2.np;
+			for (s = a; s < z; ++s) pvs__po_add_plane(&win, p->sp_first ? p->sp[s] : win2.pl[s], 1e-4 * p->tol);
 		}
 		pvs__po_keep(f, pt->to, &win);
 		for (j = p->lp_first[pt->to]; j < p->lp_first[pt->to + 1]; ++j) {
