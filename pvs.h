@@ -188,7 +188,7 @@ typedef enum pvs_result {
 	PVS_ERROR_NOT_FINITE = -5, /* NaN/infinite coordinate or parameter */
 	PVS_ERROR_EMPTY_OBJECT = -6, /* object with no triangles */
 	PVS_ERROR_DEGENERATE_OBJECT = -7, /* object of only zero-area triangles */
-	PVS_ERROR_OVERLAPPING_OBJECTS = -8,/* two objects claim same triangle */
+	PVS_ERROR_OVERLAPPING_OBJECTS = -8,/* 2 objects claim same triangle */
 	PVS_ERROR_BAD_OCCLUDER = -9, /* explicit occluder empty, unbounded or malformed */
 	PVS_ERROR_BAD_CELL = -10, /* cell box with NaN or min > max */
 	PVS_ERROR_BUFFER_TOO_SMALL = -11, /* output buffer too small */
@@ -222,9 +222,8 @@ PVS_API const char *pvs_result_string(pvs_result result);
 /* Implementation's PVS_VERSION. */
 PVS_API uint32_t pvs_version(void);
 
-/* Allocation hooks: alloc returns `align`-aligned memory (power of two <= 64) or NULL; free gets alloc's size. All
-   zero: PVS_MALLOC/PVS_FREE. Objects keep a copy (destroy frees via it; NULL ok). Must be thread-safe for parallel
-   bakes. */
+/* Allocation hooks: alloc returns `align`-aligned memory (power of 2 <= 64) or NULL; free gets alloc's size. All zero:
+   PVS_MALLOC/PVS_FREE. Objects keep a copy (destroy frees via it; NULL ok). Must be thread-safe for parallel bakes. */
 typedef struct pvs_allocator {
 	void *(*alloc)(size_t size, size_t align, void *user);
 	void (*free)(void *ptr, size_t size, void *user);
@@ -308,12 +307,12 @@ typedef struct pvs_scene_desc {
 	pvs_allocator allocator;
 } pvs_scene_desc;
 
-/* Validated scene with its kD-trees; immutable, so thread-safe. */
+/* Validated scene with its kD-trees; immutable: thread-safe. */
 typedef struct pvs_scene pvs_scene;
 
 /* Copies, validates, builds object bounds and kD-trees. Errors (err->index: element): INVALID_ARGUMENT,
    INDEX_OUT_OF_RANGE, NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT, OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW,
-   OUT_OF_MEMORY. Holds at most these bytes per triangle and object, 12 per vertex, + _FIXED. */
+   OUT_OF_MEMORY. Holds <= these bytes per triangle and object, 12 per vertex, + _FIXED. */
 #define PVS_SCENE_BYTES_PER_TRIANGLE 2432
 #define PVS_SCENE_BYTES_PER_OBJECT 2400
 #define PVS_SCENE_BYTES_FIXED 16384
@@ -328,9 +327,9 @@ PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *scene); /* 1 or 2 */
 PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene); /* of all triangles and occluders */
 PVS_API pvs_box pvs_scene_object_box(const pvs_scene *scene, uint32_t object); /* object < count */
 PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object);
-/* 64-bit FNV-1a hash of what bake reads: up axis, per object its flags and triangles' corners, then explicit occluders
-   (kind, box, heights, planes, footprints). Never 0. Stored (pvs_file.scene_fingerprint) to spot a file baked for
-   another level version. */
+/* 64-bit FNV-1a hash of what bake reads: up axis, per object flags and triangle corners, then explicit occluders (kind,
+   box, heights, planes, footprints). Never 0. Stored (pvs_file.scene_fingerprint) to spot a file baked for another
+   level version. */
 PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *scene);
 /* A triangle's object, or PVS_NO_OBJECT. */
 PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t triangle);
@@ -343,9 +342,9 @@ typedef struct pvs_hit {
 	uint32_t object; /* PVS_NO_OBJECT: triangle in no object */
 } pvs_hit;
 
-/* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), on two-sided triangles: 1 and *hit (may be NULL), or 0.
+/* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), on two-sided triangles: 1 and *hit (NULL ok), or 0.
    Watertight (Woop, Benthin, Wald 2013, in double): no ray slips through a shared edge or corner. Zero-area and
-   see-through triangles never hit; ties to lowest triangle. Thread-safe, allocates nothing. */
+   see-through triangles never hit; ties to lowest triangle. Thread-safe, no allocation. */
 PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax,
 							  pvs_hit *hit);
 /* 1 if a triangle crosses segment a-b (ends included), 0 if a == b; else as pvs_scene_raycast. */
@@ -359,18 +358,18 @@ typedef struct pvs_walkable_desc {
 	float step_height; /* highest step a walk climbs, 0 = 0.5 (x eye_height / 1.8) */
 	float max_slope; /* steepest floor, radians in (0, pi / 2), 0 = pi / 4 */
 	uint32_t max_merge; /* cells merged per side over open floor, 0 = 2 (1: none) */
-	const float *seed; /* NULL: every floor; else floors a walk reaches from the one under this point */
+	const float *seed; /* NULL: every floor; else floors a walk reaches from one under this point */
 	const pvs_box *volumes; /* NULL: anywhere; else only eyes in these view volumes, cells clipped to them */
 	uint32_t volume_count;
 	pvs_allocator allocator; /* scratch */
 } pvs_walkable_desc;
 
-/* View cells where camera can go: floors (opaque, <= max_slope, head_room free above, not in a closed mesh or one
-   open only at its base; vertical ray casts through every storey), samples linked a step apart knee to knee, grouped
-   per cell_size square, open floor merged up to max_merge per side; per group its samples' box + half a spacing, from
-   a quarter eye height over its lowest floor to eye height over its highest. A seed keeps floors a walk (up a step, or
-   dropping) reaches from nearest one <= a step above it. Writes up to `capacity` boxes (cells NULL ok), *count all
-   found. Deterministic, thread-safe. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW (> 2^26 sample columns),
+/* View cells where camera can go: floors (opaque, <= max_slope, head_room free above, not in a closed mesh or one open
+   only at its base; vertical ray casts through every storey), samples linked a step apart knee to knee, grouped per
+   cell_size square, open floor merged <= max_merge per side; per group its samples' box + half a spacing, from 1/4 eye
+   height over its lowest floor to eye height over its highest. A seed keeps floors a walk (up a step, or dropping)
+   reaches from nearest one <= a step above it. Writes <= `capacity` boxes (cells NULL ok), *count all found.
+   Deterministic, thread-safe. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW (> 2^26 sample columns),
    OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable_desc *desc, pvs_box *cells,
 									  uint32_t capacity, uint32_t *count, pvs_error *err);
@@ -398,7 +397,7 @@ typedef struct pvs_kdtree_desc {
 PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out_tree, pvs_error *err);
 /* Frees; NULL ok. */
 PVS_API void pvs_kdtree_destroy(pvs_kdtree *tree);
-/* Union of non-empty item boxes, or an empty box (min > max). */
+/* Union of non-empty item boxes, or empty box (min > max). */
 PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *tree);
 /* Nodes, inner and leaves; >= 1. */
 PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
@@ -429,13 +428,13 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *sourc
 /* Per non-empty leaf a ray passes, nearest first; [t_enter, t_exit] widened by a relative 1e-7. Return a smaller tmax
    to shorten ray (larger ignored), < 0 to stop. */
 typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t item_count, float t_enter, float t_exit);
-/* Walks leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components (not all three),
+/* Walks leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components (not all 3),
    origin anywhere; non-finite input walks nothing. Thread-safe, no allocation. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
 							pvs_kdtree_ray_fn fn, void *user);
 
 /* Items of p's leaf: all whose box contains p (also on a split plane), maybe more; NULL, *count = 0 outside bounds or
-   in an empty leaf. No allocation. */
+   in empty leaf. No allocation. */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
 
 /* ---- raster */
@@ -468,8 +467,8 @@ typedef struct pvs_camera {
    near / distance along forward. INVALID_ARGUMENT or NOT_FINITE for a bad camera. */
 PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, float m[16]);
 
-/* Raster flags. Occluders keep depth per pixel (default up to 65,536 pixels) or per 32 x 4 tile as a coverage mask and
-   two depths (Masked Occlusion Culling: several times faster; default above). Both are conservative. */
+/* Raster flags. Occluders keep depth per pixel (default <= 65,536 pixels) or per 32 x 4 tile as a coverage mask and 2
+   depths (Masked Occlusion Culling: several times faster; default above). Both conservative. */
 #define PVS_RASTER_SCALAR 1u /* scalar code even where SIMD is compiled in (identical results) */
 #define PVS_RASTER_PER_PIXEL 2u /* occluders keep a depth per pixel */
 #define PVS_RASTER_TILED 4u /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
@@ -478,11 +477,11 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, flo
 /* Zero fields get defaults. */
 typedef struct pvs_raster_desc {
 	uint32_t width, height; /* depth map size in pixels, 1..16384 each */
-	/* Optional: sizes the culling buffers and cull map; pvs_raster_cull* take no larger scene (objects,
-	   triangles, kD-tree nodes). */
+	/* Optional: sizes culling buffers and cull map; pvs_raster_cull* take no larger scene (objects, triangles, kD-tree
+	   nodes). */
 	const pvs_scene *scene;
 	uint32_t max_occluders; /* scene triangles selected per frame at most, 0 = 1024 */
-	uint32_t cull_map_width; /* cull map cells over the scene's ground, 0 = none */
+	uint32_t cull_map_width; /* cull map cells over scene's ground, 0 = none */
 	uint32_t cull_map_height; /*   (both or neither; 1..4096; needs `scene`) */
 	uint32_t flags; /* PVS_RASTER_* */
 	uint32_t max_mesh_triangles; /* pvs_raster_mesh's piece size, >= 8, 0 = 4096 (~400 bytes each) */
@@ -498,14 +497,14 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 /* Frees via its allocator; NULL ok. */
 PVS_API void pvs_raster_destroy(pvs_raster *raster);
 
-/* The code it runs: "avx2", "sse2", "neon" or "scalar" (PVS_RASTER_SCALAR, PVS_NO_SIMD). */
+/* Code it runs: "avx2", "sse2", "neon" or "scalar" (PVS_RASTER_SCALAR, PVS_NO_SIMD). */
 PVS_API const char *pvs_raster_path(const pvs_raster *raster);
-/* Sets every depth pixel to PVS_DEPTH_EMPTY, empties the bins. */
+/* Sets every depth pixel to PVS_DEPTH_EMPTY, empties bins. */
 PVS_API void pvs_raster_clear(pvs_raster *raster);
-/* Row-major projection of the next draws and box tests: any 4x4 (also off-axis, as Durand 2000's planes
-   shared by a cell). NOT_FINITE for a non-finite entry. */
+/* Row-major projection of next draws and box tests: any 4x4 (also off-axis, as Durand 2000's planes shared by a cell).
+   NOT_FINITE for a non-finite entry. */
 PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *raster, const float m[16]);
-/* An engine's clip matrix in its convention, PVS_CLIP_* (0: row-major, z_ndc 1 at near, 0 at far or infinity, as
+/* Engine's clip matrix in its convention, PVS_CLIP_* (0: row-major, z_ndc 1 at near, 0 at far or infinity, as
    pvs_camera_matrix). Its depth row becomes w - z (zero-one) or (w - z) / 2 in float; x, y, w stay: screen is engine's.
    No far clipping. Errors as pvs_raster_set_matrix; INVALID_ARGUMENT for unknown or both depths. */
 PVS_API pvs_result pvs_raster_set_clip_matrix(pvs_raster *raster, const float m[16], uint32_t flags);
@@ -519,10 +518,9 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positio
 										const uint32_t *indices, uint32_t count, pvs_raster_mode mode);
 /* Draws `count` triangles as one occluder (Durand 2000 §3.3: per-triangle inner coverage cracks along shared edges):
    as pvs_raster_triangles, plus every pixel a triangle touches and no boundary edge does, at farthest depth over it of
-   touching triangles of its facing. Boundary edges (cracks remain): edges not shared by exactly two triangles (by index
+   touching triangles of its facing. Boundary edges (cracks remain): edges not shared by exactly 2 triangles (by index
    or position) or between oppositely wound ones, silhouettes, near-plane cuts and edges they cut, edges of triangles
-   already hidden (tiled) and between pieces of max_mesh_triangles. Errors as pvs_raster_triangles; SIMD gives the
-   same. */
+   already hidden (tiled) and between pieces of max_mesh_triangles. Errors as pvs_raster_triangles; SIMD: same. */
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 								   const uint32_t *indices, uint32_t count);
 /* A draw with Masked Occlusion Culling's per-call options: vertices in caller's struct, back-face culling. */
@@ -549,8 +547,7 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_des
 	   for p < PVS_RASTER_PARTS: pvs_raster_bin(r, draws, n, p);
 	   for b < PVS_RASTER_PARTS: pvs_raster_draw_band(r, draws, n, b);  // after every bin
 	   pvs_raster_build_pyramid(r);  // then box tests on any threads
-   The map is pvs_raster_draw's for the draws in order, byte for byte. Keep the draws, their arrays and the matrix
-   until the bands are drawn. */
+   Map: pvs_raster_draw's for draws in order, byte for byte. Keep draws, their arrays, matrix until bands are drawn. */
 #define PVS_RASTER_PARTS 8
 /* INVALID_ARGUMENT as pvs_raster_draw, and for occludees, PVS_DRAW_MESH, an untiled raster or a bad part;
    BUFFER_TOO_SMALL past pvs_raster_desc.bin_triangles. */
@@ -566,7 +563,7 @@ PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width,
    of its 2 x 2 children (tiled: above tiles). Tests build it if map changed. */
 PVS_API void pvs_raster_build_pyramid(pvs_raster *raster);
 /* 1 if an occludee of nearest depth `depth` may be visible in pixels [x0, x1] x [y0, y1] (inclusive, clamped): some
-   pixel stores a depth <= `depth`; 0 if all are strictly nearer or rectangle is off map. */
+   pixel stores a depth <= `depth`; 0 if all strictly nearer or rectangle off map. */
 PVS_API int pvs_raster_test_rect(pvs_raster *raster, int32_t x0, int32_t y0, int32_t x1, int32_t y1, float depth);
 /* 1 if box may be visible: before near plane, on screen, not hidden. */
 PVS_API int pvs_raster_test_box(pvs_raster *raster, const pvs_box *box);
@@ -581,7 +578,7 @@ typedef struct pvs_facade_chain {
 	const float *points; /* (u, v) each */
 	uint32_t point_count; /* >= 2 */
 	uint32_t closed; /* 1: closed footprint (either winding), back-face culled; 0: open, two-sided */
-	float base, top; /* base < top; chains with base above ground are ignored */
+	float base, top; /* base < top; chains with base above ground ignored */
 } pvs_facade_chain;
 
 #define PVS_CULL_MAP_SCENE_OCCLUDERS 1u /* cull map flag: also scene's EXTRUSION, BOX occluders as closed chains */
@@ -606,8 +603,7 @@ typedef struct pvs_cull_params {
 	const uint32_t *occluder_indices;
 	uint32_t occluder_triangle_count;
 	uint32_t scene_occluders; /* also the best this many scene triangles (<= max_occluders; 0: 64) ... */
-	float occluder_distance; /*   ... within this distance (0: a tenth of the scene's size) by area-angle (Bittner
-								  2002 §4.5) */
+	float occluder_distance; /*   ... within this distance (0: scene size / 10) by area-angle (Bittner 2002 §4.5) */
 	uint32_t scene_volumes; /* 1: also BOX occluders and EXTRUSION walls within it (no CONVEX) */
 	const pvs_facade_chain *facades; /* pvs_raster_cull_map only: facades ... */
 	uint32_t facade_count;
@@ -619,7 +615,7 @@ typedef struct pvs_cull_params {
 /* pvs_raster_cull: occluders drawn as meshes (pvs_raster_mesh: no cracks, some cost per frame). */
 #define PVS_CULL_OCCLUDER_MESH 1u /* caller's triangles */
 #define PVS_CULL_SCENE_MESH 2u /* selected scene triangles, welded (tighter on many-triangle walls) */
-#define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; by default each is a mesh */
+#define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; default: each a mesh */
 #define PVS_CULL_FRUSTUM_ONLY 8u /* no scene triangles unless scene_occluders says how many */
 
 typedef struct pvs_cull_stats {
@@ -632,8 +628,8 @@ typedef struct pvs_cull_stats {
 /* From-point culling by depth pyramid: clears, sets camera (aspect width / height), draws occluders, builds pyramid,
    sweeps object kD-tree front to back (Bittner 2002 §3.2) skipping hidden subtrees. Sets in `visible`
    (PVS_BITSET_WORDS(object_count) words, cleared first) every object whose box may be seen on screen, never
-   occluder-only ones. `stats` may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (a scene
-   larger than context's). */
+   occluder-only ones. `stats`: NULL ok. Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (scene larger
+   than context's). */
 PVS_API pvs_result pvs_raster_cull(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
 								   const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 								   pvs_error *err);
@@ -651,7 +647,7 @@ typedef struct pvs_otree_stats {
 	uint32_t nodes; /* at end (of largest tree) */
 	uint32_t occluders_inserted; /* merged into tree(s) */
 	uint32_t visible_segments; /* 2D: segments found visible */
-	uint32_t budget_exceeded; /* 1: node_budget stopped insertion; the rest do not block */
+	uint32_t budget_exceeded; /* 1: node_budget stopped insertion; rest do not block */
 } pvs_otree_stats;
 
 #define PVS_SEGMENT_NO_OCCLUSION 1u /* tested but never blocks sight */
@@ -671,7 +667,7 @@ typedef struct pvs_visibility_2d_desc {
 } pvs_visibility_2d_desc;
 
 /* Segments (and objects) seen from a cell point along a line crossing no other segment (touching an end point does not
-   block; segments crossing cell are visible): exact, rounding toward visible. visible_segments, visible_objects
+   block; segments crossing cell visible): exact, rounding toward visible. visible_segments, visible_objects
    (PVS_BITSET_WORDS of segment_count, object_count; NULL ok, like stats) cleared first. Errors: INVALID_ARGUMENT,
    NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe; desc->allocator. */
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
@@ -691,8 +687,8 @@ typedef struct pvs_visibility_25d_desc {
 	uint32_t flags; /* 0 (1: tests' box tests without witness-line shortcut; same result) */
 } pvs_visibility_25d_desc;
 
-/* Default 2.5D occlusion tree node budget; once spent, further facades are not inserted (conservative), objects
-   still tested. Bounds time per cell on maps of many small facades. */
+/* Default 2.5D occlusion tree node budget; once spent, further facades not inserted (conservative), objects still
+   tested. Bounds time per cell on maps of many small facades. */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
 /* Fills boxes[facade_count + object_count] for pvs_visibility_25d_desc.tree: facade i is item i, object j item
@@ -701,13 +697,13 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 									  uint32_t object_count, pvs_box *boxes);
 
 /* Objects maybe visible from cell (ground rectangle x heights to cell_top), facades reaching below all cells and
-   objects; never misses one. Ignores facades crossing cell. visible_objects: object bitset, cleared first; stats may be
-   NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY. Thread-safe; allocates via desc->allocator. */
+   objects; never misses one. Ignores facades crossing cell. visible_objects: object bitset, cleared first; stats NULL
+   ok. Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY. Thread-safe; allocates via desc->allocator. */
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects,
 									  pvs_otree_stats *stats, pvs_error *err);
 
 /* From-point culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), pvs_raster_cull's object-space twin:
-   per frame, occluders merge front to back into a BSP of planes through eye; object kD-tree is walked front to back
+   per frame, occluders merge front to back into a BSP of planes through eye; object kD-tree walked front to back
    against it (§4.10.2's conservative box test, refined at in-leaves by exact "FME" test, Table 4.1) with hierarchy
    updating (§4.11.4), same result as testing each node. Occluders (§4.5): caller's triangles; the best
    `scene_occluders` by area-angle among triangles of objects seen within `occluder_distance` last frame (after create
@@ -744,7 +740,7 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out_
 PVS_API void pvs_otree_destroy(pvs_otree *otree);
 /* Forgets last frame (camera cut). */
 PVS_API void pvs_otree_reset(pvs_otree *otree);
-/* Outputs as pvs_raster_cull (plane tests lean toward "visible"); `params` may be NULL, facades ignored. Errors:
+/* Outputs as pvs_raster_cull (plane tests favour "visible"); `params` NULL ok, facades ignored. Errors:
    INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic), BUFFER_TOO_SMALL (scene larger than context's). No
    allocation. */
 PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
@@ -756,11 +752,11 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
 
 /* Occluder synthesis: certainly-solid volumes for shrink method (Wonka 2000 §2: its appendix theorem needs volumetric
    occluders). A voxel is solid only if crossing-parity floods from cells prove no viewer reaches it without touching a
-   triangle (>>occluders, "certified solid"), or is in an explicit occluder volume. Openings narrower than a voxel stay
-   open; a crack or T-junction (edge of an odd count of triangles) gives no volume on vertical sheet below it;
-   enclosures made only by several meshes together are missed. Solids erode by eps (rounding toward less solid) into
-   boxes (3D) and column heights (2.5D). Leaks: few cells reaching outside box of component holding most cells leave
-   later floods, so the rest keep their walls (pvs_occluders_excluded_cells). */
+   triangle (>>occluders, "certified solid"), or in an explicit occluder volume. Openings narrower than a voxel stay
+   open; a crack or T-junction (edge of odd triangle count) gives no volume on vertical sheet below it; enclosures made
+   only by several meshes together are missed. Solids erode by eps (rounding toward less solid) into boxes (3D) and
+   column heights (2.5D). Leaks: few cells reaching outside box of component holding most cells leave later floods, so
+   rest keep their walls (pvs_occluders_excluded_cells). */
 typedef struct pvs_occluders_desc {
 	const pvs_scene *scene; /* required; must outlive occluders */
 	const pvs_box *cells; /* required: cell_count >= 1 view cells, flood sources */
@@ -772,8 +768,7 @@ typedef struct pvs_occluders_desc {
 	pvs_allocator allocator;
 } pvs_occluders_desc;
 
-/* Leaking cells seed floods too (a leak then opens walls for all cells); used by bake's second synthesis, for left-out
-   cells. */
+/* Leaking cells seed floods too (a leak then opens walls for all); used by bake's 2nd synthesis, for left-out cells. */
 #define PVS_OCCLUDERS_KEEP_LEAKS 1u
 
 /* Immutable, thread-safe to read. */
@@ -798,7 +793,7 @@ typedef struct pvs_occluders_info {
 	uint32_t thin_objects; /* drawable objects with no solid voxel in their box */
 	uint32_t components; /* edge-connected triangle sets flooded (3+ triangles) */
 	uint32_t closed_components; /* of them, those with no open edge */
-	uint64_t open_edges; /* edges used by an odd count of triangles, off ground */
+	uint64_t open_edges; /* edges used by odd count of triangles, off ground */
 	uint64_t undecided_columns; /* component voxel columns with no certain parity */
 } pvs_occluders_info;
 
@@ -820,8 +815,8 @@ PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t 
 /* Eroded 3D boxes (*count), owned by occluders; every point within eps of one is solid. */
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
 /* Shrunk 2.5D occluders, facade chains owned by occluders (base ground, top lowered by eps): boundaries of column map's
-   regions at or above a height, closed, and of their holes, open back to first point. Points within eps of such a prism
-   are unreachable or underground. */
+   regions >= a height, closed, and of their holes, open back to first point. Points within eps of such a prism are
+   unreachable or underground. */
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
 /* Column map at ground point (u, v): *solid height below which column is proved solid (else ground); returns shrunk
    occluder height (else -FLT_MAX). Outside map: ground, -FLT_MAX. On a square's edge lower neighbour counts. */
@@ -834,7 +829,7 @@ PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occlud
 #endif /* PVS_RUNTIME_ONLY */
 
 /* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in real occluders'
-   umbra from whole cell, standing for their aggregate occlusion; five bytes each in VOCC section. */
+   umbra from whole cell, standing for their aggregate occlusion; 5 bytes each in VOCC section. */
 struct pvs_file; /* >>format */
 
 /* pvs_file.vocc_flags */
@@ -871,8 +866,8 @@ typedef struct pvs_vocc_2d_desc {
 } pvs_vocc_2d_desc;
 
 /* Cell's dense set of 2D virtual occluders (§3), each checked exactly hidden from whole cell (rounding up to a
-   relative 1e-9, toward "not hidden"). Writes up to `capacity` (x0, y0, x1, y1) to `occluders` (NULL: count only),
-   *count all found. Ignores segments meeting cell; stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, BAD_CELL,
+   relative 1e-9, toward "not hidden"). Writes <= `capacity` (x0, y0, x1, y1) to `occluders` (NULL: count only), *count
+   all found. Ignores segments meeting cell; stats NULL ok. Errors: INVALID_ARGUMENT, NOT_FINITE, BAD_CELL,
    OUT_OF_MEMORY. Thread-safe; allocates via desc->allocator. */
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, uint32_t capacity, uint32_t *count,
 							   pvs_vocc_stats *stats, pvs_error *err);
@@ -884,7 +879,7 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, u
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
 								const pvs_box *box);
 
-/* Scratch bytes of pvs_vocc_cull* for up to max_occluders (<= 255 per cell in a file) and tree (may be NULL). */
+/* Scratch bytes of pvs_vocc_cull* for <= max_occluders (<= 255 per cell in a file) and tree (NULL ok). */
 PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_occluders);
 
 /* Rebuilds a PVS (Koltun 2000 §2, §4): sets in `visible` (object bitset, cleared first) every object with a non-empty
@@ -926,7 +921,7 @@ PVS_API const char *pvs_method_name(pvs_method method);
 typedef enum pvs_shrink_mode {
 	PVS_SHRINK_AUTO = 0, /* 2.5D if occluders are (pvs_occluders_info.is_2d5), else 3D */
 	PVS_SHRINK_2D5, /* Wonka 2000 §3: column occluders, samples on cell's top, cull maps */
-	PVS_SHRINK_3D, /* samples on six faces, depth maps of eroded boxes */
+	PVS_SHRINK_3D, /* samples on 6 faces, depth maps of eroded boxes */
 	PVS_SHRINK_MODE_COUNT
 } pvs_shrink_mode;
 
@@ -941,11 +936,11 @@ typedef struct pvs_shrink_stats {
 } pvs_shrink_stats;
 
 /* Shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from cell every eps;
-   an object is left out only if every sample sees it hidden (appendix theorem: then every cell point does). Objects
+   an object left out only if every sample sees it hidden (appendix theorem: then every cell point does). Objects
    meeting cell or under its top face stay. Sets bits in `visible` (object bitset, not cleared), never occluder-only
-   ones; objects set on entry are not tested. `occluders`: this scene's; `stats` may be NULL; no occluders is no error.
-   Scratch from occluders' allocator, freed on return: thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a
-   path this build cannot run), OUT_OF_MEMORY. */
+   ones; objects set on entry not tested. `occluders`: this scene's; `stats` NULL ok; no occluders is no error. Scratch
+   from occluders' allocator, freed on return: thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (path this
+   build cannot run), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
 								   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
@@ -956,7 +951,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
 									   uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
-/* Aimed sampling, better for small, far objects: per object of `targets` (NULL: all) not in `visible`, up to
+/* Aimed sampling, better for small, far objects: per object of `targets` (NULL: all) not in `visible`, <=
    `rays_per_object` segments from a uniform point of `cell` to a uniform point of one of its triangles (pulled 1%
    toward centroid) until one reaches it; each sets first object it hits. Occluder-only objects neither set nor aimed
    at. Else as pvs_sample_visibility. */
@@ -985,14 +980,14 @@ typedef struct pvs_extproj_plane {
 
 /* Adds a convex occluder's extended Projection (§3.2): `points` (1..16 x (x, y, z)), planar convex polygon or closed
    convex solid (skipped if its box meets cell); clipped to depths > 0, split at plane. Only pixels a part covers from
-   every cell point (its views from 8 corners intersected) get min(stored, part's greatest depth, §2.3). Returns pixel
+   every cell point (its views from 8 corners intersected) get min(stored, part's max depth, §2.3). Returns pixel
    writes per part, 0 if none or on bad arguments. Thread-safe on distinct maps; no allocation. */
 PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count,
 									  float *depth_map);
 
 /* Occludee box's extended Projection (§3.1): bounding rectangle of its views from whole cell as inclusive pixel bounds
-   rect = (i0, j0, i1, j1), maybe off map, and its least Depth. 0 if box is not wholly beyond face (this plane cannot
-   decide it), else 1. No allocation. */
+   rect = (i0, j0, i1, j1), maybe off map, and its min Depth. 0 if box not wholly beyond face (this plane cannot decide
+   it), else 1. No allocation. */
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *box, int32_t rect[4], float *depth);
 
 /* 1 if a pixel of occludee's rect is off map or stores a Depth >= depth; 0: hidden (§2.2). */
@@ -1022,13 +1017,13 @@ typedef struct pvs_bake_extproj_params {
 	   (PREVIEW: none), PVS_EXTPROJ_NO_SWEEP = none. An object with its box not hidden is then kept only if some
 	   of its triangles may be seen (over 16,384 triangles: by box). */
 	uint32_t sweep;
-	/* With sweep, 4: each plane holds union of umbrae of cell's four quarters; an object must be hidden from each
-	   (tighter on foliage, a few times slower); 0 or 1: cell's umbra. */
+	/* With sweep, 4: each plane holds union of umbrae of cell's 4 quarters; an object must be hidden from each (tighter
+	   on foliage, a few times slower); 0 or 1: cell's umbra. */
 	uint32_t sweep_subcells;
 } pvs_bake_extproj_params;
 
-/* Adaptive cells (CONCEPTS): split while a PVS holds over `budget` triangles and halves are >= `min_size`; leaves
-   low half first. Not with shards. */
+/* Adaptive cells (CONCEPTS): split while a PVS holds > `budget` triangles and halves are >= `min_size`; leaves low half
+   first. Not with shards. */
 typedef struct pvs_bake_adaptive_params {
 	uint32_t budget; /* triangles per leaf cell's PVS, 0 = off */
 	float min_size; /* shortest half, 0 = 1/8 of cell's longest side */
@@ -1083,13 +1078,13 @@ typedef struct pvs_bake_desc {
 	pvs_allocator allocator;
 } pvs_bake_desc;
 
-/* AUTO's sample (CONCEPTS, Methods): cells baked with every applicable method; least share of kept PVS a method must
-   cull beyond those kept to run on all cells (x2 per cost class over first kept's). */
+/* AUTO's sample (CONCEPTS, Methods): cells baked with every applicable method; min share of kept PVS a method must cull
+   beyond those kept to run on all cells (x2 per cost class over first kept's). */
 #define PVS_AUTO_SAMPLE_CELLS 8u
 #define PVS_AUTO_MIN_GAIN 0.10
 
 /* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only cheapest applicable method. EXTPROJ: 64 pixels and 32
-   occluders per plane unless set, no sweep, object kD-tree nodes decided whole under a quarter radian or past 4,096 box
+   occluders per plane unless set, no sweep, object kD-tree nodes decided whole under 1/4 radian or past 4,096 box
    tests. SHRINK doubles its derived eps. */
 #define PVS_BAKE_PREVIEW 1u
 /* PVS_BAKE_COMPACT: finished cells' PVSs kept coded (file's record coding), not in a cells x objects bit table: memory
@@ -1144,12 +1139,12 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pv
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
 /* Facades OTREE found: merged coplanar vertical triangles, each a wall segment covering heights [base, top] along its
-   length. A cell uses a facade only toward objects whose bottom, like its own, is at or above facade's level (lowest of
-   at most eight base heights >= its base). facades == 0: nothing culled. All zero if not prepared. */
+   length. A cell uses a facade only toward objects whose bottom, like its own, is >= facade's level (lowest of <= 8
+   base heights >= its base). facades == 0: nothing culled. All zero if not prepared. */
 typedef struct pvs_otree_bake_info {
 	uint32_t prepared; /* 1: bake prepared OTREE */
 	uint32_t vertical_triangles; /* vertical scene triangles */
-	uint32_t facades; /* facades in use (base at most highest cell bottom) */
+	uint32_t facades; /* facades in use (base <= highest cell bottom) */
 	uint32_t levels; /* distinct base heights in use */
 	float lowest_level; /* lowest of them (if levels > 0) */
 } pvs_otree_bake_info;
@@ -1169,7 +1164,7 @@ typedef struct pvs_bake_report {
 	/* Cells without occluders: SHRINK, none survived erosion (thin walls or eps too large); OTREE, no usable facade;
 	   AUTO, neither and nothing culled. */
 	uint32_t cells_no_occluders;
-	uint32_t cells_excluded; /* SHRINK: leaking cells left out, baked with a second synthesis */
+	uint32_t cells_excluded; /* SHRINK: leaking cells left out, baked with second synthesis */
 	uint32_t cells_otree_budget; /* OTREE: cells whose tree hit otree.node_budget */
 } pvs_bake_report;
 /* Fills *report. Not concurrently with tasks. */
@@ -1179,7 +1174,7 @@ PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
 /* Cells the file will hold: cell_count, or adaptive leaves of tasks run so far. */
 PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
-/* Exact file size, 0 before every task ran or on error. Encodes to measure: keep the number. */
+/* Exact file size, 0 before every task ran or on error. Encodes to measure: keep it. */
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
 /* Writes file (part file for a shard) into out[0..capacity); *out_size gets size, also with BUFFER_TOO_SMALL. Errors:
    NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
@@ -1216,9 +1211,9 @@ typedef struct pvs_file_desc {
 	/* A part file (shard_count >= 2) holds cells shard_index, shard_index + shard_count, ... of total_cell_count,
 	   in order. Zero: whole file. */
 	uint32_t shard_index, shard_count, total_cell_count;
-	/* Optional VOCC section (NULL vocc_counts: none): per cell, in table order, vocc_counts[c] five-byte occluders
-	   in virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step (finite,
-	   step > 0); vocc_flags PVS_VOCC_ONLY for a placeholder table. */
+	/* Optional VOCC section (NULL vocc_counts: none): per cell, in table order, vocc_counts[c] 5-byte occluders in
+	   virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step (finite, step > 0);
+	   vocc_flags PVS_VOCC_ONLY for a placeholder table. */
 	const uint8_t *vocc_counts, *vocc_scales, *virtual_occluders;
 	uint32_t vocc_stride; /* bytes from a cell's occluders to next; 0: back to back */
 	float vocc_base, vocc_height_step;
@@ -1280,25 +1275,25 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, 
 
 /* How a cell's record is stored (pvsinfo prints these). */
 typedef struct pvs_record_info {
-	uint32_t base; /* delta's base cell, PVS_NO_CELL for a key cell */
-	uint32_t depth; /* deltas applied to decode it (0 for a key cell) */
+	uint32_t base; /* delta's base cell, PVS_NO_CELL for key cell */
+	uint32_t depth; /* deltas applied to decode it (0 for key cell) */
 	uint32_t bytes; /* record size */
 } pvs_record_info;
 /* Fills *info for cell < cell_count. No allocation. */
 PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
 
-/* A cell's virtual occluders, most effective first: returns their count (0 without VOCC), writes up to `capacity`.
-   End points rounded to float; pvs_vocc_cull uses exact ones. */
+/* A cell's virtual occluders, most effective first: returns their count (0 without VOCC), writes <= `capacity`. End
+   points rounded to float; pvs_vocc_cull uses exact ones. */
 PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out,
 											uint32_t capacity);
 
-/* A cell's raw VOCC record: returns its occluder count (0 without VOCC), *bytes their five bytes each in file,
-   *scale_code its scale (FILE FORMAT); either output may be NULL. */
+/* A cell's raw VOCC record: returns its occluder count (0 without VOCC), *bytes their 5 bytes each in file, *scale_code
+   its scale (FILE FORMAT); either output NULL ok. */
 PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
 
 /* ---- runtime */
 
-/* Object's name, NUL-terminated, in file's bytes; NULL if file stores no names (NAME) or object >= object_count. No
+/* Object's name, NUL-terminated, in file's bytes; NULL without names (NAME) or object >= object_count. No
    allocation. */
 PVS_API const char *pvs_file_object_name(const pvs_file *file, uint32_t object);
 /* Lowest object named `name`, or PVS_NO_OBJECT (also without names): a linear scan. */
@@ -1310,7 +1305,7 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
 /* Box of a cell (< cell_count). */
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
 /* Decodes a cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): chain's key, then
-   at most max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
+   <= max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
 PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count,
 								   pvs_error *err);
 
@@ -1387,8 +1382,8 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 /* ==== core: result strings, allocator, errors, math, bitsets ==== */
 
 /* Shared kernels: errors, checked sizes (pvs__fail, PVS__FAIL, pvs__mul), allocation (pvs__alloc*, PVS__ALLOC_N,
-   PVS__FREE_N), growable arrays (pvs__grow*), math, boxes, PVS__FOR3, PVS__ZERO, bitsets, RNG, allocation-free heaps
-   and sorts (big bake sorts: PVS_QSORT), union-find, little-endian bytes, CRC-32, bake's method table. Elsewhere:
+   PVS__FREE_N), growable arrays (pvs__grow*), math, boxes, PVS__FOR3, PVS__ZERO, bitsets, RNG, allocation-free heaps,
+   sorts (big bake sorts: PVS_QSORT), union-find, little-endian bytes, CRC-32, bake's method table. Elsewhere:
    pvs__kd_sweep (>>kdtree), pvs__pyramid_level (>>raster). */
 
 PVS_API const char *pvs_result_string(pvs_result r) {
@@ -1433,7 +1428,7 @@ PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index,
 }
 #define PVS__OOM(err, ...) pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, __VA_ARGS__)
 #define PVS__BAD_ARG(err, ...) pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, __VA_ARGS__)
-/* The same for any code, no index or offset; a bad section at byte offset `off` (>>format). */
+/* Same for any code, no index or offset; a bad section at byte offset `off` (>>format). */
 #define PVS__FAIL(err, code, ...) pvs__fail(err, code, -1, 0, __VA_ARGS__)
 #define PVS__BAD_SECTION(err, off, ...) pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, __VA_ARGS__)
 
@@ -1458,7 +1453,7 @@ PVS__STATIC int pvs__add(size_t a, size_t b, size_t *out) {
 	return 1;
 }
 
-/* Via desc's hooks; align: power of two <= 64. Without hooks, align > 16 over-allocates, offset in the byte before. */
+/* Via desc's hooks; align: power of 2 <= 64. No hooks: align > 16 over-allocates, offset in byte before. */
 PVS__STATIC void *pvs__alloc(const pvs_allocator *a, size_t size, size_t align) {
 	if (size == 0) size = 1;
 	if (a->alloc) return a->alloc(size, align, a->user);
@@ -1496,12 +1491,12 @@ PVS__STATIC void *pvs__alloc_array(const pvs_allocator *a, size_t n, size_t elem
 PVS__STATIC void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size_t elem) {
 	pvs__free(a, p, n * elem, 16);
 }
-/* The same, sized by type: n elements of T; freeing n elements of *p's type. */
+/* Same, sized by type: n elements of T; freeing n elements of *p's type. */
 #define PVS__ALLOC_N(a, T, n) ((T *)pvs__alloc_array(a, n, sizeof(T)))
 #define PVS__FREE_N(a, p, n) pvs__free_array(a, p, n, sizeof(*(p)))
-/* k over the three axes (x, y, z) or a triangle's three corners. */
+/* k over 3 axes (x, y, z) or a triangle's 3 corners. */
 #define PVS__FOR3(k) for (k = 0; k < 3; ++k)
-/* Zeroes the object x (a variable, *p, a member). */
+/* Zeroes object x (a variable, *p, a member). */
 #define PVS__ZERO(x) memset(&(x), 0, sizeof(x))
 
 /* ---- math (private names: none leak into engine) */
@@ -1676,8 +1671,8 @@ PVS__STATIC float pvs__random01(uint64_t *state) {
 
 /* ---- growable arrays */
 
-/* Grows array of `elem`-byte elements to hold `need` (doubling), keeping first `used`; capped at `limit` if limit >=
-   need. Returns it, or NULL with *r set (old one still caller's). */
+/* Grows array of `elem`-byte elements to `need` (doubling), keeping first `used`; capped at `limit` if >= need. Returns
+   it, or NULL, *r set (old one still caller's). */
 PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
 								   size_t limit, size_t elem, pvs_result *r) {
 	size_t cap = *capacity ? *capacity : 64, bytes;
@@ -1713,13 +1708,13 @@ PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, si
 
 /* ---- heaps: sort, top-k, allocation-free */
 
-/* qsort order of records starting with two uint32_t: first, then second. */
+/* qsort order of records starting with 2 uint32_t: first, then second. */
 PVS__STATIC int pvs__pair_cmp(const void *a, const void *b) {
 	const uint32_t *x = (const uint32_t *)a, *y = (const uint32_t *)b;
 	return x[0] != y[0] ? (x[0] < y[0] ? -1 : 1) : x[1] < y[1] ? -1 : x[1] > y[1];
 }
 
-/* 1 if a ranks before b: sort's order (ascending) or a top-k's (best first). */
+/* 1 if a ranks before b: sort's order (ascending) or top-k's (best first). */
 typedef int (*pvs__before_fn)(const void *a, const void *b);
 
 /* Sifts element r of heap h (n elements of `size` <= 64 bytes) down; root ranks last. */
@@ -1737,7 +1732,7 @@ PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t 
 	}
 }
 
-/* Heap sort (Williams 1964; no libc) of base[0 .. n), `size` <= 64 bytes each, by `before`; total order: same
+/* Heap sort (Williams 1964; no libc) of base[0..n), `size` <= 64 bytes each, by total order `before`: same
    everywhere. */
 PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)base, t[64];
@@ -1753,8 +1748,8 @@ PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_f
 	}
 }
 
-/* Top-k: `heap` holds *count <= k elements of `size` <= 64 bytes, root ranking last. e enters if not full or ranking
-   before root. */
+/* Top-k: `heap` holds *count <= k elements of `size` <= 64 bytes, root ranks last; e enters if not full or before
+   root. */
 PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e,
 								 pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
@@ -1775,7 +1770,7 @@ PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t
 }
 
 /* Priority queue: binary heap of *n elements of `size` <= 64 bytes, first-ranking at root; pop moves root to *top. Ties
-   leave in an order fixed by pushes. */
+   leave in order fixed by pushes. */
 PVS__STATIC void pvs__pq_push(void *heap, size_t *n, size_t size, const void *e, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
 	size_t i;
@@ -1823,7 +1818,7 @@ PVS__STATIC void pvs__key_index_sort(pvs__key_index *o, uint32_t n) {
 		pvs__heap_sort(o, n, sizeof(*o), pvs__key_index_before);
 		return;
 	}
-	for (i = 1; i < n; ++i) { /* a few (the flow's hulls): insertion, the same total order */
+	for (i = 1; i < n; ++i) { /* a few (the flow's hulls): insertion, same total order */
 		pvs__key_index t = o[i];
 		for (j = i; j > 0 && pvs__key_index_before(&t, o + j - 1); --j) o[j] = o[j - 1];
 		o[j] = t;
@@ -1850,7 +1845,7 @@ PVS__STATIC float pvs__getf32(const uint8_t *p) {
 	return f;
 }
 
-/* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), two nibble-table steps per byte. */
+/* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), 2 nibble-table steps per byte. */
 PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 	static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
 								   0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
@@ -1868,11 +1863,11 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 #ifndef PVS_RUNTIME_ONLY /* up to >>vocc's quantization: bake side */
 /* ---- bake's method table (what >>bake's driver knows) */
 
-/* A bake method: a row of >>bake's pvs__bake_methods, functions over per-bake state. Driver checks all methods'
-   parameters, prepares those bake may run, keeps those that can cull (AUTO), runs each on every cell, intersects their
-   PVSs. New method: its module + a row. */
+/* Bake method: a row of >>bake's pvs__bake_methods, functions over per-bake state. Driver checks all methods'
+   parameters, prepares those bake may run, keeps those able to cull (AUTO), runs each on every cell, intersects PVSs.
+   New method: its module + a row. */
 
-/* What a method sees of bake: `cells` every cell, not just shard's (prepare agrees between shards; caller's, set during
+/* What a method sees of bake: `cells` all cells, not just shard's (prepare agrees across shards; caller's, set in
    prepare only); `task_cells` shard's, one per task. */
 typedef struct pvs__bake_env {
 	const pvs_scene *scene;
@@ -1907,17 +1902,17 @@ typedef struct pvs__bake_method {
 	int cost_class; /* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
 	/* Checks its parameters in desc, whatever bake runs. NULL: none. */
 	pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
-	/* Makes *state (read-only in tasks but for per-task slots; destroyed even on failure). UNSUPPORTED: cannot run on
-	   this scene (AUTO skips it). */
+	/* Makes *state (read-only in tasks but per-task slots; destroyed even on failure). UNSUPPORTED: cannot run on scene
+	   (AUTO skips it). */
 	pvs_result (*prepare)(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err);
-	/* 1 if method can leave anything out in this scene; reason in *why either way. NULL: always. */
+	/* 1 if method can leave anything out in scene; reason in *why either way. NULL: always. */
 	int (*applies)(const void *state, const char **why);
 	/* PVS of task's box (cell or adaptive part) into `bits`, cleared by caller. `candidates` (NULL ok): what caller
-	   intersects it with (parent PVS, earlier methods), so method may test only those. Adds PVS__BAKE_* to *flags.
+	   intersects it with (parent PVS, earlier methods): method may test only those. Adds PVS__BAKE_* to *flags.
 	   Thread-safe for distinct tasks. */
 	pvs_result (*cell)(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
 					   const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err);
-	/* Fills its own file sections if bake runs it alone. NULL: none. */
+	/* Fills own file sections if bake runs it alone. NULL: none. */
 	void (*file)(const void *state, pvs_file_desc *fd);
 	/* NULL state is fine. */
 	void (*destroy)(const pvs__bake_env *env, void *state);
@@ -1952,9 +1947,9 @@ struct pvs_scene {
 	pvs_box *occluder_boxes; /* occluder_count */
 	float *occluder_data; /* all occluders' planes, footprints */
 	size_t occluder_data_count; /* floats in occluder_data */
-	pvs_kdtree *triangle_tree; /* triangle boxes (zero-area, see-through ones left out) */
+	pvs_kdtree *triangle_tree; /* triangle boxes (zero-area, see-through left out) */
 	pvs_kdtree *see_through_tree;/* PVS_OBJECT_SEE_THROUGH triangles; NULL if none */
-	pvs_kdtree *object_tree; /* object boxes (empty ones left out) */
+	pvs_kdtree *object_tree; /* object boxes (empty left out) */
 	float *triangle_corners; /* triangle_count * 9: corners sorted lexicographically */
 	double max_triangle_area; /* for occluder selection's bound */
 };
@@ -1968,7 +1963,7 @@ PVS__STATIC int pvs__tri_blocks(const pvs_scene *s, uint32_t t) {
 /* Fills s->triangle_corners, empties zero-area triangles' boxes (>>kdtree). */
 PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err);
 
-/* Solves three planes n_i.p + d_i = 0 in double; 0 if ~parallel. */
+/* Solves 3 planes n_i.p + d_i = 0 in double; 0 if ~parallel. */
 PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c, double out[3]) {
 	double n1[3], n2[3], n3[3], x[3], det;
 	int i;
@@ -2016,7 +2011,7 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
 		for (k = 0; k < 4; ++k) all[4 * i + k] = (float)(p[k] / len);
 		if (fabs(p[3] / len) + 1.0 > reach) reach = fabs(p[3] / len) + 1.0;
 	}
-	/* each vertex is a triple's intersection: reach bounds all */
+	/* each vertex: a triple's intersection: reach bounds all */
 	for (i = 0; i + 2 < n; ++i)
 		for (j = i + 1; j + 1 < n; ++j)
 			for (k = j + 1; k < n; ++k) {
@@ -2239,7 +2234,7 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 	return PVS_OK;
 }
 
-/* Objects' flags, triangle ranges, boxes (empty if all zero-area), s->triangle_object; no triangle is shared. */
+/* Objects' flags, triangle ranges, boxes (empty if all zero-area), s->triangle_object; no triangle shared. */
 PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	uint32_t o, t;
 	for (o = 0; o < desc->object_count; ++o) {
@@ -2307,7 +2302,7 @@ PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *
 	return PVS_OK;
 }
 
-/* kD-trees over triangle boxes (zero-area ones emptied; see-through ones in own tree) and object boxes. */
+/* kD-trees over triangle boxes (zero-area emptied; see-through in own tree) and object boxes. */
 PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, pvs_box *tri_boxes,
 										pvs_error *err) {
 	pvs_kdtree_desc kd;
@@ -2468,9 +2463,9 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
 	return s->occluders + i;
 }
 
-/* Scene's 2.5D facades for >>vocc: consecutive triangle pairs forming a vertical rectangle with bottom <= scene's
-   lowest point, others left out (conservative; pvs__facades_extract would change vocc's results). *count 6-float
-   facades (u0 v0 u1 v1 top bottom) in triangle order into new *out (6 count + 6 floats, allocator a; NULL: failure). */
+/* Scene's 2.5D facades for >>vocc: consecutive triangle pairs forming vertical rectangles with bottom <= scene's lowest
+   point, others left out (conservative; pvs__facades_extract would change vocc's results). *count 6-float facades (u0
+   v0 u1 v1 top bottom), triangle order, into new *out (6 count + 6 floats, allocator a; NULL: failure). */
 PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocator *a, float **out, uint32_t *count) {
 	int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
 	float ground = s->bounds.min[up];
@@ -2493,7 +2488,7 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 				if (m == nh) { if (nh < 2) h[nh] = c[k][up]; ++nh; }
 			}
 			if (np != 2 || nh != 2) continue;
-			/* three distinct corners each, sharing just two (a diagonal) */
+			/* 3 distinct corners each, sharing just 2 (a diagonal) */
 			PVS__FOR3(k)
 				if (c[k] == c[(k + 1) % 3] || c[3 + k] == c[3 + (k + 1) % 3] ||
 					!memcmp(c[k], c[(k + 1) % 3], 12) || !memcmp(c[3 + k], c[3 + (k + 1) % 3], 12)) break;
@@ -2531,11 +2526,11 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 // >>kdtree
 /* ==== kdtree: binned-SAH build over boxes; sweep (Bittner 2002 §3.2); ray walk; point location; scene rays ==== */
 
-/* Layout: 8-byte nodes; `bits`: axis in low 2 bits (3 = leaf), above them an inner node's left child (right follows) or
-   leaf's offset in `items`; union: split or leaf's item count. Node 0: root; N nodes: (N + 1) / 2 leaves. Items are in
+/* Layout: 8-byte nodes; `bits`: axis in low 2 bits (3 = leaf), above them inner node's left child (right follows) or
+   leaf's offset in `items`; union: split or leaf's item count. Node 0: root; N nodes: (N + 1) / 2 leaves. Items in
    every leaf whose closed cell overlaps their closed box: point on split plane finds all boxes touching it. */
 #define PVS__KD_BINS 32 /* SAH candidate planes per axis: BINS - 1 */
-#define PVS__KD_SAMPLE 256 /* most refs binned per node (even stride through bigger ones) */
+#define PVS__KD_SAMPLE 256 /* most refs binned per node (even stride through bigger) */
 #define PVS__KD_LEAF 3u
 #define PVS__KD_MAX_INDEX 0x3fffffffu	/* largest child index or item offset, 30 bits */
 #define PVS__KD_COST_TRAVERSE 1.0f /* SAH cost of one inner node ... */
@@ -2598,11 +2593,11 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 	return PVS_OK;
 }
 
-/* Splits `node` (refs[base..base + n) atop stack, cell `box`) or makes it a leaf. Binned SAH, all 3 axes (Bittner 2002
+/* Splits `node` (refs[base..base + n) atop stack, cell `box`) or makes a leaf. Binned SAH, all 3 axes (Bittner 2002
    §4.4; binning after Wald 2007); counts exact for closed-interval split below (sampled in big nodes). Budgets
-   (straddling boxes go both sides: boxes overlapping everywhere would make memory quadratic): 2 pools set by
-   pvs_kdtree_create, of references a split adds (l + r - n) and nodes (2 per split); a split they cannot pay is not
-   taken (bigger leaf). Pools spent in build order: tree within them is the one built without. */
+   (straddling boxes go both sides: everywhere-overlapping boxes would make memory quadratic): 2 pools from
+   pvs_kdtree_create, of references a split adds (l + r - n) and nodes (2 per split); a split they cannot pay: not taken
+   (bigger leaf). Pools spent in build order: tree within them is the one built without. */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
 									 uint32_t depth) {
 	pvs_kdtree *t = b->tree;
@@ -2631,7 +2626,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	PVS__FOR3(axis) {
 		float lo = box->min[axis], width = ext[axis];
 		int k;
-		scale[axis] = (float)nb / width; /* +inf if width is 0 or tiny: no split axis */
+		scale[axis] = (float)nb / width; /* +inf if width 0 or tiny: no split axis */
 		valid[axis] = scale[axis] < FLT_MAX;
 		if (!valid[axis]) scale[axis] = 0.0f;
 		for (k = 0; k <= nb; ++k) b->starts[axis][k] = b->ends[axis][k] = 0;
@@ -2647,8 +2642,8 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 			const float *pl = b->planes[axis];
 			float lo = box->min[axis], mn = ref->min[axis], mx = ref->max[axis];
 			int s, e;
-			/* s = first k in 1..nb with mn <= planes[k], e = last k in 0..nb-1 with mx >= planes[k]. Estimates are in
-			   [0, nb], off by <= 1; one exact comparison each way fixes them. */
+			/* s = first k in 1..nb with mn <= planes[k], e = last k in 0..nb-1 with mx >= planes[k]. Estimates in [0,
+			   nb], off by <= 1; one exact comparison each way fixes them. */
 			s = (int)((mn - lo) * scale[axis]);
 			e = (int)((mx - lo) * scale[axis]);
 			s = s < nb - 1 ? s : nb - 1;
@@ -2688,7 +2683,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	if (best_axis < 0) return pvs__kd_make_leaf(b, node, base, n);
 	axis = best_axis;
 	split = b->planes[axis][best_k];
-	nr = n; /* split adds <= n references: room unless pool is nearly spent */
+	nr = n; /* split adds <= n references: room unless pool nearly spent */
 	if (n > b->refs_left) { /* then exact sides decide */
 		for (i = 0, nl = 0, nr = 0; i < n; ++i) {
 			nl += b->refs[base + i].min[axis] <= split;
@@ -2697,8 +2692,8 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 		if (nl + nr > n + b->refs_left) return pvs__kd_make_leaf(b, node, base, n);
 	}
 
-	/* closed intervals: ref touching plane goes to both sides, clipped; left refs compacted in place, right ones
-	   written above base + n (loop writes one slot past them) */
+	/* closed intervals: ref touching plane goes both sides, clipped; left refs compacted in place, right ones above
+	   base + n (loop writes one slot past them) */
 	{
 		pvs__kdref *refs = (pvs__kdref *)pvs__grow_capped(&t->allocator, b->refs, &b->ref_capacity, base + n,
 														  base + n + nr + 1, b->ref_limit, sizeof(pvs__kdref), &r);
@@ -2791,8 +2786,8 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	if (b->max_depth > PVS_KDTREE_MAX_DEPTH) b->max_depth = PVS_KDTREE_MAX_DEPTH;
 
 	/* Pools: PVS_KDTREE_MAX_REFS_PER_BOX references, PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (K, N). Stack holds
-	   refs of leaves still to build plus a node being split (n and its right side): at most pool plus one node's count
-	   and a slot, so <= 4 K + 8 N + 28 (K + 1) bytes per box. */
+	   refs of leaves to build + a node being split (n and its right side): <= pool + one node's count and a slot, so <=
+	   4 K + 8 N + 28 (K + 1) bytes per box. */
 	b->refs_left = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX - 1) * m;
 	b->nodes_left = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m;
 	b->item_limit = (size_t)PVS_KDTREE_MAX_REFS_PER_BOX * m;
@@ -2891,7 +2886,7 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
 }
 
 /* Approximate occlusion sweep (Bittner 2002 §3.2): priority queue on nodes' min distance to source (never less for
-   child). `heap`: (node_count + 1) / 2 entries; `node` (NULL ok) gets visited node's index in each `visit`. */
+   child). `heap`: (node_count + 1) / 2 entries; `node` (NULL ok) gets visited node's index per `visit`. */
 PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 							   pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
 	size_t n = 1;
@@ -2991,7 +2986,7 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 				double s = nd->u.split, ts, tol;
 				uint32_t left = nd->bits >> 2, near_child, far_child;
 				if (d[axis] == 0.0) {
-					/* parallel to plane: origin's side, both if it lies in plane */
+					/* parallel to plane: origin's side, both if in plane */
 					if (o[axis] < s) node = left;
 					else if (o[axis] > s) node = left + 1;
 					else {
@@ -3004,7 +2999,7 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 					nd = t->nodes + node;
 					continue;
 				}
-				/* near = side holding origin; on plane, the side the ray moves into */
+				/* near = side holding origin; on plane, side the ray moves into */
 				near_child = (o[axis] < s || (o[axis] == s && d[axis] < 0.0)) ? left : left + 1;
 				far_child = near_child == left ? left + 1 : left;
 				ts = (s - o[axis]) * inv[axis];
@@ -3111,8 +3106,8 @@ PVS__STATIC int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]
 	return 1;
 }
 
-/* 2D edge function of sheared corners p, q: its sign is the side of p-q the ray passes. Sorted corners: a shared edge
-   is bit-identical in both triangles. */
+/* 2D edge function of sheared corners p, q: its sign: side of p-q the ray passes. Sorted corners: shared edge
+   bit-identical in both triangles. */
 PVS__STATIC double pvs__edge(const double *p, const double *q) { return p[0] * q[1] - p[1] * q[0]; }
 
 /* Two-sided watertight ray-triangle test: 1 and *t if ray meets triangle at 0 <= t <= tmax. */
@@ -3206,7 +3201,7 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 		o[k] = a[k];
 		d[k] = (double)b[k] - (double)a[k];
 		df[k] = b[k] - a[k];
-		/* float walk direction must keep every component the exact one has */
+		/* float walk direction must keep every component exact one has */
 		if (df[k] == 0.0f && d[k] != 0.0) df[k] = d[k] > 0.0 ? FLT_MIN : -FLT_MIN;
 	}
 	if (!pvs__ray_setup(&rc.ray, o, d)) return 0;
@@ -15395,7 +15390,7 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 
 // >>portal
 /* ==== portal: rooms and portals from scene's closed convex solids, conservative portal flow per cell ==== */
-/* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids are connected closed
+/* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids: connected closed
    convex meshes of scene triangles (joined by shared or split vertices: pvs__po_solids; each directed edge matched by
    its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles), not explicit occluder volumes
    (rays pass them). BSP on their face planes (q3map2's BuildTree: fragments split by planes they straddle) ends in
@@ -15404,14 +15399,14 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
    empty leaf beyond, pushed down tree, split by planes it straddles (Teller 1992 §3.3). Segment between rooms missing
    all solids crosses portals of leaves it passes, in order. Other triangles block nothing here.
 
-   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): segment from x in view cell C through portals
-   P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: lines' source is C_j, C clipped to
-   that side (empty: no such line). Beyond Pj segment stays behind every separating plane of C_j and its crossing
-   region on Pj, and of P(j-1) and Pj. Each step P -> Q (or start leaf's portal Q) keeps hull R of regions so found on
-   Q; region W (Q clipped by step's planes into P) outside R grows R to hull(R, W), queues step: monotone fixed point
-   (as q3map2's might-see pruning); by induction each crossing point lies in its step's R. Objects of leaf entered via
-   Q (or overlapped by C) are kept if triangle's part in leaf is behind all step's planes, as visible points are. Past
-   `budget` portal clips: all objects of reachable empty leaves (conservative cut-off). */
+   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): segment from x in view cell C through portals P1
+   .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: lines' source is C_j, C clipped to that
+   side (empty: no line). Past Pj segment stays behind every separating plane of C_j and its crossing region on Pj, and
+   of P(j-1) and Pj. Each step P -> Q (or start leaf's portal Q) keeps hull R of regions so found on Q; region W (Q
+   clipped by step's planes into P) outside R grows R to hull(R, W), queues step: monotone fixed point (as q3map2's
+   might-see pruning); by induction each crossing point is in its step's R. Objects of leaf entered via Q (or overlapped
+   by C) kept if triangle's part in leaf is behind all step's planes, as visible points are. Past `budget` portal clips:
+   all objects of reachable empty leaves (conservative cut-off). */
 
 #define PVS__PO_MAXW 64u /* clipped winding vertices */
 #define PVS__PO_MAXS 64u /* separating planes per region */
@@ -15421,7 +15416,7 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 #define PVS__PO_CANDIDATES 48u /* split planes scored per node */
 #define PVS__PO_GROWS 12u /* region growths before whole portal */
 #define PVS__PO_SRCS 64u /* clipped cell boxes kept per cell */
-#define PVS__PO_STEPS (1u << 20) /* steps whose planes are kept (and 4 planes a step on average) */
+#define PVS__PO_STEPS (1u << 20) /* steps whose planes are kept (~4 planes a step) */
 #define PVS__PO_NORMAL_EPS 1e-6
 #define PVS__PO_DIST_EPS 1e-7 /* x scene size */
 #define PVS__PO_LEAF 0x80000000u /* child id bit: leaf */
@@ -15473,7 +15468,7 @@ typedef struct pvs__poprep {
 	size_t leaf_box_cap;
 	size_t leaf_count, leaf_cap;
 	uint32_t root, solids, deep_leaves;
-	int lost; /* polygon over PVS__PO_MAXW vertices: scene unbakeable here */
+	int lost; /* polygon > PVS__PO_MAXW vertices: scene unbakeable here */
 	pvs__po_portal *portals;
 	size_t portal_count, portal_cap;
 	double (*portal_v)[3];
@@ -15488,7 +15483,7 @@ typedef struct pvs__poprep {
 	size_t lo_count, lo_cap;
 	uint32_t budget, empty_leaves;
 	uint32_t *task_cut, task_count; /* per task: cells cut off (own slot) */
-	pvs_box *solid_box; /* solids: point inside sees objects meeting it (hull blocks the rest) */
+	pvs_box *solid_box; /* solids: point inside sees objects meeting it (hull blocks rest) */
 	uint32_t *so_first, *so; /* per solid drawable objects meeting its box */
 	size_t so_count;
 } pvs__poprep;
@@ -15528,7 +15523,7 @@ PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) 
 	if (!pvs__grow(&p->allocator, (void **)&p->pl, &p->plane_cap, p->plane_count + 2, sizeof(p->pl[0])) ||
 		!pvs__grow(&p->allocator, (void **)&p->hash_next, &p->hash_next_cap, p->plane_count / 2 + 1, sizeof(uint32_t)))
 		return PVS__PO_NONE;
-	/* canonical orientation: largest normal component positive */
+	/* canonical orientation: max normal component positive */
 	a = (uint32_t)pvs__po_axis(n);
 	b = n[a] < 0.0;
 	PVS__FOR3(k) nn[k] = b ? -n[k] : n[k];
@@ -15582,7 +15577,7 @@ PVS__STATIC int pvs__po_put(pvs__po_wind *w, uint32_t *n, const double *x) {
 	return 0;
 }
 
-/* Splits w by pl: dist <= eps to *back, >= -eps to *front (either may be NULL); 1 if vertices lost (> PVS__PO_MAXW). */
+/* Splits w by pl: dist <= eps to *back, >= -eps to *front (either NULL ok); 1 if vertices lost (> PVS__PO_MAXW). */
 PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, pvs__po_wind *front,
 							   pvs__po_wind *back) {
 	double dist[PVS__PO_MAXW];
@@ -15682,8 +15677,8 @@ PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w
 	memcpy(w->p, q->v[q->first[f]], w->n * sizeof(w->p[0]));
 }
 
-/* Polytope of planes[0..count) (outward): each face its base square clipped by others (dropped if clipped away); < 4
-   left: empty *q (face_count 0). 0: OOM. */
+/* Polytope of planes[0..count) (outward): each face its base square clipped by others (dropped if emptied); < 4 left:
+   empty *q (face_count 0). 0: OOM. */
 PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes, uint32_t count, pvs__po_poly *q,
 										 pvs__po_wind *scratch, uint32_t *kept) {
 	uint32_t i, faces = 0;
@@ -15831,8 +15826,8 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 }
 
 /* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle. Triangles join if they share
-   vertex, or edge's two positions exactly two of them use, in opposite directions (mesh exported with split vertices;
-   touching solids use such edge four times, stay apart). 0: OOM. */
+   vertex, or edge's 2 positions exactly 2 of them use, in opposite directions (mesh exported with split vertices;
+   touching solids use such edge 4 times, stay apart). 0: OOM. */
 PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
 							   pvs__po_wind *scratch, uint32_t *kept) {
 	const pvs_allocator *al = &p->allocator;
@@ -16196,8 +16191,8 @@ typedef struct pvs__po_region {
 	uint32_t vo, vcap; /* its n vertices at flow's pv + vo, room for vcap (a pool: most regions have a few) */
 } pvs__po_region;
 
-/* Convex line source: vertices, edges (index pairs); faces > 0: each edge's two faces (ef, 7: unknown), planes in fp
-   (outward, as table planes: the cell box's six, then the clipping portal's). */
+/* Convex line source: vertices, edges (index pairs); faces > 0: each edge's 2 faces (ef, 7: unknown), planes in fp
+   (outward, as table planes: cell box's 6, then clipping portal's). */
 typedef struct pvs__po_set {
 	uint32_t n, ne, faces;
 	double v[PVS__PO_MAXW][3];
@@ -16211,7 +16206,7 @@ typedef struct pvs__po_flow {
 	double c[8][3]; /* cell corners */
 	pvs_word *bits;
 	uint32_t *slot; /* hash of (state, region), PVS__PO_NONE: free (states: ep_first, then start portals) */
-	size_t slot_cap; /* pairs, a power of two */
+	size_t slot_cap; /* pairs, a power of 2 */
 	pvs__po_region *reg;
 	size_t reg_count, reg_cap;
 	double (*pv)[3]; /* regions' vertices */
@@ -16223,10 +16218,10 @@ typedef struct pvs__po_flow {
 	uint32_t leaf_count;
 	uint32_t clips;
 	int cut, oom;
-	pvs__po_set box; /* pvs__po_source's set of the whole box (n 0: not made) */
-	pvs__po_set *srcs; /* its clipped sets by plane, PVS__PO_SRCS direct-mapped on the plane id (NULL: none kept) */
+	pvs__po_set box; /* pvs__po_source's set of whole box (n 0: not made) */
+	pvs__po_set *srcs; /* its clipped sets by plane, PVS__PO_SRCS direct-mapped on plane id (NULL: none kept) */
 	uint32_t *src_plane; /* their planes, PVS__PO_NONE: empty */
-	double bc[6]; /* the box's centre and half sizes */
+	double bc[6]; /* box's centre and half sizes */
 } pvs__po_flow;
 
 /* Plane pl (n.x <= pl[3] kept) added to w unless found before (within eps in d, 1e-9 in n) or w full (more lines). */
@@ -16240,7 +16235,7 @@ PVS__STATIC void pvs__po_add_plane(pvs__po_win *w, const double *pl, double eps)
 }
 
 /* Plane through a, b, c if it separates A (na points, one side within eps) and B (nb, other): added to w keeping B's
-   side (Teller 1992 §5.2 separating plane, pvs__po_add_plane); 1 if so. box (centre, half sizes) not NULL: A is that
+   side (Teller 1992 §5.2 separating plane, pvs__po_add_plane); 1 if so. box (centre, half sizes) not NULL: A: that
    box's corners, tested at once. */
 PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
 								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps,
@@ -16256,9 +16251,9 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 	if (!(len > 1e-12 * (fabs(e1[0]) + fabs(e1[1]) + fabs(e1[2])) * (fabs(e2[0]) + fabs(e2[1]) + fabs(e2[2]))))
 		return 0;
 	/* A unnormalized, eps len: eps up to rounding (coordinates within 10^5 scene sizes of 0); a plane may be lost,
-	   never a wrong one made (B's test is on the plane kept) */
+	   never a wrong one made (B's test is on plane kept) */
 	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
-	if (box) { /* A: box's 8 corners (centre, half sizes): extremes at the centre -+ |n| . half */
+	if (box) { /* A: box's 8 corners (centre, half sizes): extremes at centre -+ |n| . half */
 		double t = n[0] * box[0] + n[1] * box[1] + n[2] * box[2] + d;
 		double e = fabs(n[0]) * box[3] + fabs(n[1]) * box[4] + fabs(n[2]) * box[5];
 		lo = pvs__dmin(0.0, t - e), hi = pvs__dmax(0.0, t + e);
@@ -16281,8 +16276,8 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 }
 
 /* Appends to w->pl planes bounding lines from convex set c through region w->v (Teller 1992 §5.2 separating ones):
-   through an edge of one and vertex of other, c and w on opposite sides. A set meeting w has none. box: c is a whole
-   box (pvs__po_try_plane's). */
+   through an edge of one and vertex of other, c and w on opposite sides. A set meeting w has none. box: c is whole box
+   (pvs__po_try_plane's). */
 PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps, double tol,
 										const double *box) {
 	uint32_t i, j;
@@ -16293,8 +16288,8 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 				break;
 	for (i = 0; i < c->ne; ++i)
 		for (j = 0; j < w->nv; ++j) {
-			/* a plane through an edge of convex c and x leaves c on one side only if x is in front of one of the
-			   edge's faces and behind the other (a silhouette from x): skipped if beyond tol before or behind both */
+			/* a plane through an edge of convex c and x leaves c on one side only if x is in front of one of edge's
+			   faces and behind the other (a silhouette from x): skipped if beyond tol before or behind both */
 			if (c->faces && c->ef[i][0] < 7 && c->ef[i][1] < 7) {
 				double s0 = pvs__po_dist(c->fp[c->ef[i][0]], w->v[j]), s1 = pvs__po_dist(c->fp[c->ef[i][1]], w->v[j]);
 				if ((s0 > tol && s1 > tol) || (s0 < -tol && s1 < -tol)) continue;
@@ -16305,8 +16300,8 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 		}
 }
 
-/* Adds polygon v (n vertices) to set c: each vertex unless one is within eps, each edge once (either way; lost if c is
-   full: never here, a once-clipped box has <= 7 faces of 5 vertices, a portal <= PVS__PO_MAXW). */
+/* Adds polygon v (n vertices) to set c: each vertex unless one within eps, each edge once (either way; lost if c full:
+   never here, a once-clipped box has <= 7 faces of 5 vertices, a portal <= PVS__PO_MAXW). */
 PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const double (*v)[3], uint32_t n, double eps, uint32_t face) {
 	uint32_t i, k, a, b = PVS__PO_MAXW;
 	for (k = 0; n && k <= n; ++k, b = a) {
@@ -16328,7 +16323,7 @@ PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const double (*v)[3], uint32_t 
 	}
 }
 
-/* f's kept clipped sources: made (none if out of memory: made anew each time) or freed. */
+/* f's kept clipped sources: made (none if OOM: made anew each time) or freed. */
 PVS__STATIC void pvs__po_sources(pvs__po_flow *f, int make) {
 	const pvs_allocator *al = &f->p->allocator;
 	if (make) {
@@ -16352,7 +16347,7 @@ PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__
 	uint32_t i, k, whole;
 	for (i = 0; i < 8 && !(pvs__po_dist(pl, f->c[i]) > p->eps); ++i) {
 	}
-	whole = i == 8; /* clips nothing: the box's set, made once */
+	whole = i == 8; /* clips nothing: box's set, made once */
 	if (whole && f->box.n) return &f->box;
 	if (!whole && f->srcs) {
 		uint32_t id = p->portals[q].plane, h = id & (PVS__PO_SRCS - 1);
@@ -16374,7 +16369,7 @@ PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__
 		pvs__po_set_add(c, (const double(*)[3])w.p, w.n, p->eps, i);
 	}
 	memcpy(c->fp[6], pl, sizeof(c->fp[6]));
-	for (i = 0; i < c->ne; ++i) /* an edge of one face: the portal's plane's, if both ends are on it */
+	for (i = 0; i < c->ne; ++i) /* an edge of one face: portal's plane's, if both ends on it */
 		if (c->ef[i][1] == 7 && fabs(pvs__po_dist(pl, c->v[c->e[i][0]])) <= 4.0 * p->eps &&
 			fabs(pvs__po_dist(pl, c->v[c->e[i][1]])) <= 4.0 * p->eps)
 			c->ef[i][1] = 6;
@@ -16382,7 +16377,7 @@ PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__
 }
 
 /* Pass planes of step P -> Q into w (Teller 1992 §5.2: a line crossing Q after P stays behind planes separating them),
-   against all of Q: state's region on Q gives tighter ones at a quarter of a big cell's time (tests/BENCHMARKS.md). */
+   against all of Q: state's region on Q gives tighter ones at 1/4 of a big cell's time (tests/BENCHMARKS.md). */
 PVS__STATIC void pvs__po_step_planes(const pvs__poprep *p, uint32_t P, uint32_t Q, pvs__po_win *w) {
 	const pvs__po_portal *a = p->portals + P, *b = p->portals + Q;
 	pvs__po_set set;
@@ -16395,7 +16390,7 @@ PVS__STATIC void pvs__po_step_planes(const pvs__poprep *p, uint32_t P, uint32_t 
 }
 
 /* 1 if object o has a triangle whose part in empty leaf `leaf` clipped by w's planes (w NULL: none) is not empty
-   (within tol; or vertices were lost), or no triangle. */
+   (within tol; or vertices lost), or no triangle. */
 PVS__STATIC int pvs__po_meets(const pvs__poprep *p, const pvs_scene *s, uint32_t leaf, uint32_t o,
 							  const pvs__po_win *w) {
 	const pvs__po_poly *lp = p->leaf + leaf;
@@ -16465,8 +16460,7 @@ PVS__STATIC int pvs__po_inside(const double (*rv)[3], uint32_t n, const pvs__po_
 	return 1;
 }
 
-/* out = hull of rv (rn vertices) and w in plane 2D coordinates (pvs__vo_hull): its vertex count, 0 if over
-   PVS__PO_MAXW. */
+/* out = hull of rv (rn vertices) and w in plane 2D coordinates (pvs__vo_hull): vertex count, 0 if > PVS__PO_MAXW. */
 PVS__STATIC uint32_t pvs__po_hull(const double (*rv)[3], uint32_t rn, const pvs__po_wind *w, int a, pvs__po_wind *out) {
 	double all[2 * PVS__PO_MAXW][3], uv[4 * PVS__PO_MAXW];
 	pvs__key_index keys[2 * PVS__PO_MAXW];
@@ -16488,7 +16482,7 @@ PVS__STATIC void pvs__po_start_leaf(void *ctx, uint32_t l) {
 	f->leaves[f->leaf_count++] = l;
 }
 
-/* Region r's vertices become w's (pool room made if they do not fit: OOM sets f->oom). */
+/* Region r's vertices become w's (pool grown if they do not fit: OOM sets f->oom). */
 PVS__STATIC void pvs__po_set_region(pvs__po_flow *f, pvs__po_region *r, const pvs__po_wind *w) {
 	if (w->n > r->vcap) {
 		if (!pvs__grow(&f->p->allocator, (void **)&f->pv, &f->pv_cap, f->pv_count + w->n + 4, sizeof(f->pv[0]))) {
@@ -16520,9 +16514,9 @@ PVS__STATIC int pvs__po_grow(pvs__po_flow *f, uint32_t id, const pvs__po_wind *w
 	return 1;
 }
 
-/* Queue key of a step into q: min squared distance of q's vertices from cell box, as float bits (>= 0: order kept).
-   It never falls along a line from cell: nearest first runs most steps after those feeding them (fewer growths; fixed
-   point the same up to PVS__PO_GROWS). */
+/* Queue key of a step into q: min squared distance of q's vertices from cell box, as float bits (>= 0: order kept). It
+   never falls along a line from cell: nearest first runs most steps after those feeding them (fewer growths; fixed
+   point same up to PVS__PO_GROWS). */
 PVS__STATIC uint32_t pvs__po_key(const pvs__po_flow *f, uint32_t q) {
 	const pvs__po_portal *pt = f->p->portals + q;
 	double best = DBL_MAX;
@@ -16658,7 +16652,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 		win.np = 0;
 		memcpy(win.v, f->pv[f->reg[id].vo], win.nv * sizeof(win.v[0]));
 		pvs__po_window_planes(&win, src, 1e-4 * p->tol, p->tol, src == &f->box ? f->bc : NULL);
-		if (f->reg[id].from != PVS__PO_NONE) { /* and P(j-1)'s (kept, else made: the same) */
+		if (f->reg[id].from != PVS__PO_NONE) { /* and P(j-1)'s (kept, else made: same) */
 			size_t a = 0, z;
 			if (p->sp_first) a = p->sp_first[f->reg[id].state], z = p->sp_first[f->reg[id].state + 1];
 			else pvs__po_step_planes(p, f->reg[id].from, q, &win2), z = win2.np;
@@ -16681,7 +16675,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 				f->cut |= pvs__po_clip(&w, win.pl[k], p->tol);
 			}
 			if (w.n >= 3 && !c) memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
-			if (w.n < 3 && k > 1) { /* the plane that emptied it first for the next portal (the same halfspaces) */
+			if (w.n < 3 && k > 1) { /* plane that emptied it first for next portal (same halfspaces) */
 				double t4[4];
 				memcpy(t4, win.pl[k - 1], sizeof(t4));
 				memcpy(win.pl[k - 1], win.pl[0], sizeof(t4));
@@ -16708,7 +16702,7 @@ PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
 	}
 }
 
-/* Every step's pass planes, kept (none past PVS__PO_STEPS or out of memory: made per state, the same). */
+/* Every step's pass planes, kept (none past PVS__PO_STEPS or OOM: made per state, same). */
 PVS__STATIC void pvs__po_pass_planes(pvs__poprep *p) {
 	size_t n = 0, steps = p->ep_first[p->portal_count], k;
 	uint32_t i, j;
@@ -16891,7 +16885,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 			pvs__po_box_down(p, s->object_boxes + ob.o, p->root, pvs__po_object_leaf, &ob);
 	ok = !b.oom && pvs__po_csr(al, p->lo_pairs, p->lo_count, (uint32_t)p->leaf_count, &p->lo_first, &p->lo);
 	for (k = 0, i = 0; ok && i < p->leaf_count; ++i) { /* objects of <= 64 triangles with no part in a leaf: never kept
-															there, dropped (bigger ones kept: bounded set-up) */
+															there, dropped (bigger kept: bounded set-up) */
 		uint32_t e = p->lo_first[i + 1], j = p->lo_first[i];
 		for (p->lo_first[i] = k; j < e; ++j)
 			if (s->object_triangles[2 * (size_t)p->lo[j] + 1] > 64 || pvs__po_meets(p, s, (uint32_t)i, p->lo[j], NULL))
@@ -16994,7 +16988,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 }
 
 /* AUTO's PORTAL price: class 0, +1 per PVS_AUTO_SAMPLE_CELLS / 4 of AUTO's sample cells whose centre sees sky (ray up
-   meets nothing): out of doors lines pass over every wall, the flow with them. */
+   meets nothing): out of doors lines pass over every wall, flow with them. */
 PVS__STATIC int pvs__portal_price(const pvs_bake_desc *desc, const void *state) {
 	uint32_t s, S = PVS_AUTO_SAMPLE_CELLS, k, up = pvs_scene_up_axis(desc->scene);
 	int price = 0;
@@ -24154,7 +24148,7 @@ PVS_API void pvs_file_get_record_info(const pvs_file *f, uint32_t cell, pvs_reco
 // >>runtime
 /* ==== runtime: cell look-up via stored kD-tree, decoding, cursor; no allocation ==== */
 
-/* Cell c's coordinate indices, min then max per axis (one 64-bit read when six fit). */
+/* Cell c's coordinate indices, min then max per axis (one 64-bit read when 6 fit). */
 PVS__STATIC void pvs__cell_indices(const pvs_file *f, uint32_t c, uint32_t idx[6]) {
 	uint64_t pos = (uint64_t)c * f->private_.cell_bits;
 	int k;
@@ -24187,7 +24181,7 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 	return b;
 }
 
-/* pvs__cell_value written out for the look-up's inner loop (GCC leaves the call in a unit this size). */
+/* pvs__cell_value written out for look-up's inner loop (GCC leaves the call in a unit this size). */
 #define PVS__CELL_V(f, k, i)                                                                              \
 	((f)->private_.value_bits[k] == 255u ? pvs__getf32((f)->private_.values[k] + 4 * (size_t)(i))         \
 	 : (f)->private_.value_step[k] != 0.0f                                                                \
@@ -24253,7 +24247,7 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
 	items = starts + (((size_t)inner + 2) * ow + 7) / 8;
 	for (;;) {
 		if (k < inner) {
-			/* k's children side by side, loaded while k compares: one load latency per level (branch-free) */
+			/* k's children side by side, loaded while k compares: 1 load latency per level (branch-free) */
 			float v = pvs__getf32(nodes + 4 * (size_t)k);
 			uint32_t axis = axes[k];
 			for (;;) {
