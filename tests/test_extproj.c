@@ -2152,6 +2152,18 @@ static void test_portal_kernels(void) {
    rounding), and each plane separates the two (P in front, Q behind) touching both (an edge of one, a vertex of the
    other), so it bounds those lines tightly. A bake without them kept (made per state, as past PVS__PO_STEPS) gives the
    same PVSs. */
+static void tpp_point(const pvs__poprep *p, const pvs__po_portal *q, uint64_t *st, double x[3]) {
+    double w = 0.0;
+    uint32_t i, k;
+    x[0] = x[1] = x[2] = 0.0;
+    for (i = 0; i < q->n; ++i) { /* a random convex combination of its vertices */
+        double u = test_rnd(st);
+        for (k = 0; k < 3; ++k) x[k] += u * p->portal_v[q->first + i][k];
+        w += u;
+    }
+    for (k = 0; k < 3; ++k) x[k] /= w;
+}
+
 static void test_pass_planes(void) {
     gen_params gp = test_gen_params(GEN_INDOOR, 2, 0.3f, 4);
     mesh m;
@@ -2174,23 +2186,14 @@ static void test_pass_planes(void) {
         const pvs__po_portal *pt = p->portals + P;
         for (j = p->lp_first[pt->to]; j < p->lp_first[pt->to + 1]; ++j) {
             const pvs__po_portal *q = p->portals + p->lp[j];
-            size_t a = p->sp_first[p->ep_first[P] + (j - p->lp_first[pt->to])], z = p->sp_first[p->ep_first[P] + (j - p->lp_first[pt->to]) + 1];
+            size_t step = p->ep_first[P] + (j - p->lp_first[pt->to]), a = p->sp_first[step], z = p->sp_first[step + 1];
             steps += z > a;
             planes += (uint32_t)(z - a);
-            for (i = 0; i < 64 && z > a; ++i) { /* x on P, y on Q (random convex combinations), points y + t (y - x) */
-                double x[3] = {0, 0, 0}, y[3] = {0, 0, 0}, wx = 0.0, wy = 0.0, t = test_rnd(&st) * 4.0;
+            for (i = 0; i < 64 && z > a; ++i) { /* x on P, y on Q, points y + t (y - x) */
+                double x[3], y[3], t = test_rnd(&st) * 4.0;
                 size_t h;
-                for (k = 0; k < pt->n || k < q->n; ++k) {
-                    double u = test_rnd(&st), v = test_rnd(&st);
-                    uint32_t c;
-                    for (c = 0; c < 3; ++c) {
-                        if (k < pt->n) x[c] += u * p->portal_v[pt->first + k][c];
-                        if (k < q->n) y[c] += v * p->portal_v[q->first + k][c];
-                    }
-                    wx += k < pt->n ? u : 0.0;
-                    wy += k < q->n ? v : 0.0;
-                }
-                for (k = 0; k < 3; ++k) x[k] /= wx, y[k] /= wy;
+                tpp_point(p, pt, &st, x);
+                tpp_point(p, q, &st, y);
                 for (h = a; h < z; ++h) {
                     double d = -p->sp[h][3];
                     for (k = 0; k < 3; ++k) d += p->sp[h][k] * (y[k] + t * (y[k] - x[k]));
