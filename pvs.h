@@ -1,4 +1,4 @@
-/* pvs.h - v0.11.7 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.11.8 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -156,7 +156,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 11
-#define PVS_VERSION_PATCH 7
+#define PVS_VERSION_PATCH 8
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -4445,7 +4445,6 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
    behind near plane, off screen, without whole pixel or behind every tile's base; rest go to pvs__raster_tri. Dropping
    occluders conservative: no margins; scalar, SIMD agree. ---- */
 
-#define PVS__PF_TILES 16 /* hidden test: per tile in boxes <= this size */
 #define PVS__FSMALL(a) (((a) < 0.0f ? 0.0f - (a) : (a)) < 1e30f)
 
 /* Lanes < n (<= 8) to draw (bit l), those in *test only if not hidden (bit 8 + l: not drawn, no whole pixel); box,
@@ -4597,12 +4596,11 @@ PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, u
 	return 1;
 }
 
-/* 1 if every tile under box[0]..box[8] x box[16]..box[24] (i0, i1, j0, j1) has base as near as zmax. Large boxes try
-   blocks first (bases only grow: stale block minimum is lower bound, retaken on failure). */
+/* 1 if every tile under box[0]..box[8] x box[16]..box[24] (i0, i1, j0, j1) has base as near as zmax. Blocks first,
+   small boxes too (bases only grow: stale block minimum is lower bound, retaken on failure if dirty). */
 PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *box, float zmax) {
 	uint32_t tx0 = (uint32_t)box[0] >> PVS__TW_SHIFT, tx1 = (uint32_t)box[8] >> PVS__TW_SHIFT;
 	uint32_t ty0 = (uint32_t)box[16] >> PVS__TH_SHIFT, ty1 = (uint32_t)box[24] >> PVS__TH_SHIFT, bx, by;
-	if ((tx1 - tx0 + 1) * (ty1 - ty0 + 1) <= PVS__PF_TILES) return pvs__pf_tiles(r, tx0, tx1, ty0, ty1, zmax);
 	for (by = ty0 >> PVS__BLOCK_SHIFT; by <= ty1 >> PVS__BLOCK_SHIFT; ++by)
 		for (bx = tx0 >> PVS__BLOCK_SHIFT; bx <= tx1 >> PVS__BLOCK_SHIFT; ++bx) {
 			size_t k = (size_t)by * r->bw + bx;
@@ -24394,7 +24392,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.11.7 (2026-11-30) raster: a band finds its binned triangles by a mask byte each, 8 a step: bands -13%.
+   0.11.8 (2026-11-30) raster: small boxes' hidden test asks their block's minimum first: triangle draw -9%.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.
