@@ -22569,9 +22569,6 @@ PVS__STATIC uint32_t pvs__bits_for(uint32_t max_value) {
 	return w;
 }
 
-
-
-
 PVS__STATIC uint32_t pvs__zigzag(int64_t d) { return (uint32_t)(d >= 0 ? 2 * (uint64_t)d : 2 * (uint64_t)(-d) - 1u); }
 PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z >> 1) + 1u) : (int64_t)(z >> 1); }
 
