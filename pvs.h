@@ -6656,16 +6656,14 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 
 // >>otree
 /* ==== otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7) ==== */
-/* One BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through R^3's origin, images p* of points p
-   (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 if p left of l). Leaves: out (unblocked) or in (blocked by
-   payload: 2D nearest occluder; 2.5D those maybe seen over). Line sets: convex polygons of unit vectors (extremal
-   lines); each edge keeps point whose plane carries it, marked if on path (§4.10.1): out-leaf becomes e-OT of unmarked
-   edges (§3.3.3).
+/* BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through R^3's origin, images p* of points p
+   (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 if p left of l). Leaves: out (unblocked), in (blocked by
+   payload: 2D nearest occluder; 2.5D those maybe seen over). Line sets: convex polygons of unit vectors; edge keeps
+   point of its plane, marked if on path (§4.10.1): out-leaf becomes e-OT of unmarked edges (§3.3.3).
 
-   Conservative rounding: exact planes through stored points bound regions (in-leaf claims no line outside its blocker);
-   insertion's tolerance drops only blocked slivers; read-only tests split with slack (both sides see more); ambiguous
-   depth orders: visible. Double geometry, cell-centred. Users: pvs_visibility_2d (exact, ch. 6), pvs_visibility_25d
-   (c-LSS, ch. 7), OTREE bake; pvs_otree_cull (ch. 4) has own 3D kernel. */
+   Conservative: exact planes through stored points bound regions; insertion drops only blocked slivers; read-only tests
+   split with slack; ambiguous depth order: visible. Doubles, cell-centred. Users: pvs_visibility_2d (exact, ch. 6),
+   pvs_visibility_25d (c-LSS, ch. 7), OTREE bake; pvs_otree_cull (ch. 4): own 3D kernel. */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT25_WITNESSES 16
@@ -6687,7 +6685,7 @@ typedef struct pvs__otnode {
 	int32_t sign;
 	uint32_t kind; /* 0 inner, PVS__OT_OUT, PVS__OT_IN */
 	uint32_t child[2];	/* [0] negative, [1] positive side */
-	uint32_t first, count; /* in-leaf payload: seq[first..first + count) */
+	uint32_t first, count; /* in-leaf payload: seq[first..+count) */
 	uint32_t parent;	/* PVS__OT_NONE: root */
 	double mvd; /* 2D: subtree's max visibility distance (§6.5.5); DBL_MAX over out-leaves */
 	double mr, ms; /* 2.5D: hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
@@ -6701,7 +6699,7 @@ typedef struct pvs__otree {
 	uint32_t *seq;
 	size_t seq_count, seq_cap;
 	pvs__otpoly *stack; /* work stack: item i = stack[stack_slot[i]] (PVS__OT_ITEM) */
-	uint32_t *stack_slot; /* permutation: clips write free slot, then swap */
+	uint32_t *stack_slot; /* permutation: clips write free slot, swap */
 	uint32_t *stack_node;
 	uint32_t *stack_pend; /* read-only tests: clip owed, (node << 1) | side, or PVS__OT_NONE */
 	size_t stack_count, stack_cap;
@@ -6815,7 +6813,7 @@ PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3
 	if (len > 0.0) { l[0] /= len; l[1] /= len; l[2] /= len; }
 	return len;
 }
-/* Signed side of p for line l, scaled: unit lines compare. */
+/* Signed side of p for line l, scaled (unit lines compare). */
 PVS__STATIC double pvs__ot_side(const double l[3], const double p[2]) {
 	return (l[0] * p[0] + l[1] * p[1] + l[2]) / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
 }
@@ -6838,8 +6836,8 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 	n[2] = f;
 }
 
-/* Clips `in` to n . l >= -slack (0: exact half), n unit normal of p's plane; new edges in it, marked `mark`. Returns
-   vertex count (0 empty, -1 too many). */
+/* Clips `in` to n . l >= -slack (0: exact half), n unit normal of p's plane; new edges marked `mark`. Returns vertex
+   count (0 empty, -1 too many). */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
 							   pvs__otpoly *out) {
 	double d[PVS__OT_MAXV + 1];
@@ -6879,8 +6877,8 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	out->n = m;
 	return m;
 }
-/* 2.5D witness lines: read-only test reaching out-leaf keeps line in its polygon (normalised vertex sum); out-leaves
-   only become in-leaves: witness later in in-leaf dropped. */
+/* 2.5D witness lines: read-only test reaching out-leaf keeps its polygon's normalised vertex sum; witness later in
+   in-leaf dropped. */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	double w[3] = {0, 0, 0}, len;
 	int i;
@@ -6892,8 +6890,8 @@ PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	t->wit[0][0] = w[0] / len; t->wit[0][1] = w[1] / len; t->wit[0][2] = w[2] / len;
 }
 
-/* 2.5D: 1 if nd's subtree hides all points >= `near` from cell, <= h high (pvs__ot25_bound); near < 0 (2D): 0. Skips
-   call where neither bound applies; evaluates nd twice. */
+/* 2.5D: 1 if nd's subtree hides all points >= `near` from cell, <= h high (pvs__ot25_bound); near < 0 (2D): 0.
+   Evaluates nd twice. */
 #define PVS__OT25_HIDDEN(t, nd, near, h) \
 	(((near) > (nd)->mr || (near) > (nd)->ml) && pvs__ot25_hidden_below_at(t, nd, near, h))
 PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
@@ -6911,9 +6909,8 @@ PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode
 	return 0;
 }
 
-/* Insertion at inner node (§3.3.3) on top item, in place: edges on node's plane marked (§4.10.1), polygon goes to
-   child or splits; child whose subtree hides occluder (2.5D, near >= 0) gets nothing. 2.5D descends one-sided nodes
-   here, to leaf or hidden subtree. */
+/* Insertion at inner node (§3.3.3), top item in place: edges on node's plane marked (§4.10.1), polygon to child or
+   split; child whose subtree hides occluder (2.5D, near >= 0) gets none. 2.5D descends one-sided nodes here. */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q = PVS__OT_ITEM(t, top);
 	const pvs__otnode *nd;
@@ -6946,11 +6943,11 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		if (h0 && h1) { t->stack_count = top; return; }
 		if (!pvs__ot_reserve(t, top + 3)) { t->stack_count = top; return; }
 		q = PVS__OT_ITEM(t, top);
-		/* positive part unless c1 hides, negative (normal negated: distances exact) unless c0 hides */
+		/* positive part unless c1 hides, negative (normal negated: exact) unless c0 hides */
 		PVS__FOR3(i) nf[i] = -nd->n[i];
 		na = h1 ? 0 : pvs__ot_clip_n(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
 		nb = h0 ? 0 : pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 2));
-		/* items top..: c1's part, then c0's, as 2 pushes; unused slots above (still permutation) */
+		/* items top..: c1's part, c0's, as 2 pushes; unused slots above */
 		s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
 		if (na >= 3) { t->stack_slot[m] = s1; t->stack_node[m] = c1; t->stack_pend[m] = PVS__OT_NONE; ++m; }
 		if (nb >= 3) { t->stack_slot[m] = s2; t->stack_node[m] = c0; t->stack_pend[m] = PVS__OT_NONE; ++m; }
@@ -6961,9 +6958,8 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 	}
 }
 
-/* Read-only test at inner node (§3.3.4) on top item, in place: polygon within 1e-12 of plane on one side (edge on it)
-   goes there, else each side gets part widened by 1e-12. 1 if surely visible (2.5D: straddled child out-leaf) or OOM
-   (caller counts visible). */
+/* Read-only test at inner node (§3.3.4), top item in place: polygon within 1e-12 of plane on one side goes there, else
+   each side gets part widened by 1e-12. 1 if surely visible (2.5D: straddled child out-leaf) or OOM (then visible). */
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q;
 	const pvs__otnode *nd;
@@ -6994,8 +6990,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 		t->stack_node[top] = c;
 		if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return 0;
 	}
-	/* 2.5D (no sliver rule): both parts hold vertex strictly off plane: out-leaf child answers at once; its part's line
-	   becomes witness (pvs__ot25_witnessed) */
+	/* 2.5D (no sliver rule): both parts have vertex strictly off plane: out-leaf child answers; its part's line becomes
+	   witness (pvs__ot25_witnessed) */
 	if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
 		int out1 = t->nodes[c1].kind == PVS__OT_OUT;
 		PVS__FOR3(i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
@@ -7015,7 +7011,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 			return 0;
 		}
 	}
-	/* child without hidden-height bound (likely visible) first; other's clip deferred (pvs__ot_owed) */
+	/* child without hidden-height bound first; other's clip deferred (pvs__ot_owed) */
 	first = t->nodes[c1].mr == DBL_MAX && t->nodes[c0].mr != DBL_MAX ? 1 : 0;
 	PVS__FOR3(i) nf[i] = first ? nd->n[i] : -nd->n[i];
 	r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
@@ -7030,7 +7026,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 	return 0;
 }
 
-/* Pays item `top`'s owed clip (pvs__ot_test_inner): part on `side` of node's plane, widened 1e-12; 0 if empty (pop). */
+/* Pays item `top`'s owed clip (pvs__ot_test_inner): part on `side` of plane, widened 1e-12; 0 if empty (pop). */
 PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	uint32_t pend = t->stack_pend[top];
 	const pvs__otnode *nd = t->nodes + (pend >> 1);
@@ -7050,9 +7046,9 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	return 1;
 }
 
-/* Blocker polygon B(S, O) (§6.4.3): lines through S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, each edge in
-   plane of its lines' shared point. Coincident vertices (O's line through end of S, O touching S) merge into Fig. 6.5's
-   triangle. 0 if degenerate (zero measure). */
+/* Blocker polygon B(S, O) (§6.4.3): lines through S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, edge in
+   plane of its lines' shared point. Coincident vertices merge into Fig. 6.5's triangle. 0 if degenerate (zero
+   measure). */
 PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2],
 								pvs__otpoly *q) {
 	const double *from[4], *to[4], *pt[4];
@@ -7143,7 +7139,7 @@ PVS__STATIC void pvs__ot_hit_line(const double *s, double m[4]) {
 	m[2] = s[0] * s[3] - s[1] * s[2];
 	m[3] = sqrt(m[0] * m[0] + m[1] * m[1]);
 }
-/* Parameter on line l (unit direction (l1, -l0)) at segment line m (pvs__ot_hit_line); 0: ~parallel or coincident. */
+/* Parameter on line l (direction (l1, -l0)) at segment line m (pvs__ot_hit_line); 0: ~parallel or coincident. */
 PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
 	double x, y, w, dx = l[1], dy = -l[0], dn = m[3];
 	x = l[1] * m[2] - l[2] * m[1];
@@ -7175,14 +7171,13 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 }
 
 /* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k clearly in front of j, clearly
-   behind. Neither: ties (lines through X or shared end), vertex lines missing segment (outside leaf by rounding sliver:
-   q clipped with slack). */
+   behind. Neither: ties (lines through X or shared end), vertex lines missing segment (rounding sliver). */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk,
 							   int *front, int *behind) {
 	int i, have_x;
 	double x[2], mj[4], mk[4];
 	*front = *behind = 0;
-	/* after split at crossing X, lines through X tie whatever rounding says */
+	/* after split at crossing X, lines through X tie */
 	have_x = q->xsplit && pvs__ot_cross(sj, sk, x);
 	pvs__ot_hit_line(sj, mj);
 	pvs__ot_hit_line(sk, mk);
@@ -7197,7 +7192,7 @@ PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const 
 	}
 }
 
-/* Splits leaf `node` by p's plane; side `sign * side(p) > 0` continues, returned. */
+/* Splits leaf `node` by p's plane; returns side `sign * side(p) > 0`. */
 PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const double p[2], double sign) {
 	uint32_t neg = pvs__ot_new_node(t), pos = pvs__ot_new_node(t);
 	pvs__otnode old;
@@ -7217,7 +7212,7 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 }
 
 /* Turns leaf `node` into chain of q's unmarked edges (e-OT, §3.3.3): split by each edge's plane, q's side continuing,
-   others keeping leaf's kind, payload. Returns q's node (old payload kept), PVS__OT_NONE if OOM. */
+   others keep leaf's kind, payload. Returns q's node, PVS__OT_NONE if OOM. */
 PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
 	double cen[3] = {0, 0, 0};
 	int i, k;
@@ -7244,7 +7239,7 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
 
 /* ---- 2D from-region (ch. 6): insertion with §6.5.1's 4 depth cases */
 
-/* §6.5.1 case 3: q split at crossing X = x (marked so), pushed at `node` as 2 halves. 0: OOM. */
+/* §6.5.1 case 3: q split at crossing X = x (marked), pushed at `node` as 2 halves. 0: OOM. */
 PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, const double x[2]) {
 	pvs__otpoly part;
 	double n[3];
@@ -7287,7 +7282,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 					continue;
 				}
 			}
-			/* case 2 (or unresolved crossing, taken as in front: conservative) */
+			/* case 2 (or unresolved crossing: in front, conservative) */
 			{
 				uint32_t leaf = pvs__ot_refine(t, node, &q);
 				if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
@@ -7297,8 +7292,8 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 	t->stack_count = base;
 }
 
-/* Thickness: min over edges of max vertex distance from edge's plane. Insertion leaves ~1e-12 slivers where it rounded;
-   thinner than PVS__OT_SLIVER (radians at unit distance) is below method's resolution. */
+/* Thickness: min over edges of max vertex distance from edge's plane. Slivers (~1e-12, insertion rounding) thinner than
+   PVS__OT_SLIVER (radians at unit distance): below resolution. */
 #define PVS__OT_SLIVER 1e-10
 PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 	double th = DBL_MAX;
@@ -7320,8 +7315,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 
 /* ---- shared driver pieces */
 
-/* Clips segment s to open half-plane right of a -> b (outside CCW edge); 0: empty; *on_line: end moved onto line (1
-   first, 2 second). */
+/* Clips segment s to open half-plane right of a -> b; 0: empty; *on_line: end moved onto line (1 first, 2 second). */
 PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4],
 									 int *on_line) {
 	double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
@@ -7340,8 +7334,8 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 	return !(out[0] == out[2] && out[1] == out[3]);
 }
 
-/* Blockers of source edge a -> b (lines leaving to its right) and clipped segment o: 1, or 2 if o's line crosses edge
-   at x (Fig. 6.5). Returns count; *degenerate: non-empty line set unrepresentable. */
+/* Blockers of source edge a -> b (lines leaving right) and clipped segment o: 1, or 2 if o's line crosses edge at x
+   (Fig. 6.5). Returns count; *degenerate: non-empty line set unrepresentable. */
 PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
 								 pvs__otpoly out[2], int *degenerate) {
 	double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
@@ -7414,8 +7408,8 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 	return 1;
 }
 
-/* Max visibility distances (§6.5.5), bottom-up, backward pass (children follow parents): out-leaves unbounded,
-   in-leaves stored occluder's max distance to cell point (any line <= that far from cell exit). */
+/* Max visibility distances (§6.5.5), bottom-up: out-leaves unbounded, in-leaves stored occluder's max distance to cell
+   point. */
 PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
 	size_t i;
 	for (i = t->node_count; i-- > 0;) {
@@ -7450,8 +7444,8 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 
 /* ---- 2D from-region API (ch. 6) */
 
-/* Cell polygon `in` (n >= 3 vertices) centred at vertex mean (*cx, *cy), made CCW, into `cell` (2 n doubles). PVS_OK,
-   or BAD_CELL (in err) if no area or not convex. */
+/* Cell polygon `in` (n >= 3) centred at vertex mean (*cx, *cy), made CCW, into `cell` (2 n doubles). PVS_OK, or
+   BAD_CELL (in err) if no area or not convex. */
 PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy,
 									 pvs_error *err) {
 	double area = 0.0;
@@ -7482,8 +7476,8 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 	return PVS_OK;
 }
 
-/* MVD shortcut distances (§6.5.5) of `count` segments to cell (n vertices), rounded outward by len_eps: reach[i] max
-   distance from segment i to cell point, near[i] min (0 if they meet). */
+/* MVD distances (§6.5.5) of `count` segments to cell (n vertices), rounded outward by len_eps: reach[i] max distance
+   from segment i to cell point, near[i] min (0 if they meet). */
 PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
 									double *reach, double *near) {
 	uint32_t i, k;
@@ -7504,9 +7498,8 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 	}
 }
 
-/* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert (occluder crossing cell
-   visible anyway; its outside parts still block). test 1, exact re-test: 1 if it meets cell, is point, degenerate from
-   cell edge, or line from edge reaches it past occluders. */
+/* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert. test 1, exact re-test: 1
+   if it meets cell, is point, degenerate from cell edge, or line from edge reaches it past occluders. */
 PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
 								 double near, int test) {
 	uint32_t k;
@@ -7597,7 +7590,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 		pvs__ot2_update_mvd(&t);
 	}
 	if (t.oom) { r = PVS__OOM(err, "occlusion tree nodes"); goto done; }
-	/* exact re-test of every segment on final tree (§6.6) */
+	/* exact re-test of all segments on final tree (§6.6) */
 	if (visible_segments) memset(visible_segments, 0, PVS_BITSET_WORDS(count) * sizeof(pvs_word));
 	if (visible_objects) memset(visible_objects, 0, PVS_BITSET_WORDS(desc->object_count) * sizeof(pvs_word));
 	for (i = 0; i < count; ++i) {
@@ -7620,18 +7613,17 @@ done:
 	return r;
 }
 
-/* ---- facades: scene's vertical walls as 2.5D occluders (§7.1, c-LSS's input) */
+/* ---- facades: scene's vertical walls as 2.5D occluders (§7.1, c-LSS input) */
 
-/* Facade extraction, any tessellation (T-junction splits, strips, fans; floors at several heights):
-   1. vertical triangles grouped by ground line (direction, then offset, within tol), minus members farther than tol
-	  from longest member's line;
-   2. in (s, h), s along line, vertex s values cut slabs with no vertex inside, where cross-section bounds are
-	  linear: triangles overlapping (within tol) at both slab ends overlap across it, so connected sets cover
-	  [min_j max(lo_j), max_j min(hi_j)] (member bounds at ends) over whole slab;
+/* Facade extraction, any tessellation (T-junctions, strips, fans, multiple floors):
+   1. vertical triangles grouped by ground line (direction, offset, within tol), less those over tol from longest
+	  member's line;
+   2. in (s, h), s along line, vertex s values cut slabs (cross-section bounds linear): connected sets of triangles
+	  overlapping (within tol) at both slab ends cover [min_j max(lo_j), max_j min(hi_j)] (lo_j, hi_j at ends);
    3. adjacent slabs with equal intervals (within tol) make facade: segment, heights [bottom, top] it fully covers.
-   Conservative up to cracks and offsets of tol (8 float epsilons of scene's coordinates: T-junction cracks); heights
-   round inward, ends: vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into new *out (allocator a,
-   *out_floats floats), *vertical: vertical triangles; OOM leaves *out NULL. */
+   Conservative up to tol (8 float epsilons of scene coordinates); heights round inward. Writes *count facades (u0 v0
+   u1 v1 top bottom) into new *out (allocator a, *out_floats floats), *vertical: vertical triangles; OOM leaves *out
+   NULL. */
 #define PVS__FX_MAX_COVER 512 /* slabs under more triangles left out (conservative) */
 #define PVS__OT25_LEVELS 8 /* facade base heights OTREE tells apart (pvs__otree_prepare) */
 
@@ -7658,7 +7650,7 @@ PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, u
 	return 1;
 }
 
-/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from smaller-s end: shared edges agree. */
+/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from smaller-s end (shared edges agree). */
 PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, double *lo, double *hi) {
 	int i;
 	*lo = DBL_MAX; *hi = -DBL_MAX;
@@ -7678,7 +7670,7 @@ PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, d
 	}
 }
 
-/* Extraction scratch (for nv vertical triangles), output. */
+/* Extraction scratch (nv vertical triangles), output. */
 typedef struct pvs__fxwork {
 	const pvs_scene *sc;
 	const pvs_allocator *a;
@@ -7689,15 +7681,15 @@ typedef struct pvs__fxwork {
 	double *sec; /* 4 PVS__FX_MAX_COVER: per slab member lo(sa), lo(sb), hi(sa), hi(sb) */
 	uint32_t *ins, *act;	/* nv: members by min s; members over slab */
 	uint32_t *comp, *que;	/* PVS__FX_MAX_COVER + 1: connected set per slab member; its queue */
-	pvs__fxopen *opn, *nxt; /* PVS__FX_MAX_COVER + 1: facades open at slab start; those it continues */
+	pvs__fxopen *opn, *nxt; /* PVS__FX_MAX_COVER + 1: facades open at slab start; those continued */
 	uint32_t nopen;
 	float **out; /* facades (6 floats), cap floats allocated, *count written */
 	size_t cap;
 	uint32_t *count;
 } pvs__fxwork;
 
-/* Step 1's vertical test: ground points collinear within tol, ground length and height > tol. Per vertical triangle
-   slot tl = (theta in [0, pi), offset n . g, n = (-d1, d0), d0, d1, ground length), vt = triangle. Returns slots. */
+/* Step 1's vertical test: ground points collinear within tol, ground length, height > tol. Per vertical triangle slot
+   tl = (theta in [0, pi), offset n . g, n = (-d1, d0), d0, d1, ground length), vt = triangle. Returns slots. */
 PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up, double tol, double *tl, uint32_t *vt) {
 	uint32_t t, k, nv = 0;
 	for (t = 0; t < sc->triangle_count; ++t) {
@@ -7733,8 +7725,8 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 	return nv;
 }
 
-/* Step 1's group: mem's slots as (s, h) triangles into w->sv on longest member's line (ties: lower slot), minus those
-   farther than tol from it. Returns count kept. */
+/* Step 1's group: mem's slots as (s, h) triangles into w->sv on longest member's line (ties: lower slot), less those
+   over tol from it. Returns count kept. */
 PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem,
 									 uint32_t n) {
 	uint32_t ref = mem[0].index, nm = 0, i, k;
@@ -7768,8 +7760,8 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
 }
 
 /* Steps 2-3 on slab [sa, sb] (ground points ga, gb), members w->act[0..use): connected sets (step 2, BFS), their
-   intervals, each continuing open facade ending at sa with equal interval (within tol) or opening one; uncontinued
-   facades emitted. 0: OOM. */
+   intervals, each continuing open facade ending at sa with equal interval (within tol) or opening one; rest emitted. 0:
+   OOM. */
 PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
 							 const double gb[2]) {
 	double tol = w->tol, *sec = w->sec;
@@ -7827,8 +7819,8 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 	return 1;
 }
 
-/* Steps 2-3 along line of nm members (w->sv): slabs between consecutive vertex s, each with members spanning it; then
-   emits facades still open. 0: OOM. */
+/* Steps 2-3 along line of nm members (w->sv): slabs between consecutive vertex s, members spanning each; emits
+   still-open facades. 0: OOM. */
 PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 	pvs__key_index *so = w->so;
 	const double *sv = w->sv;
@@ -7903,7 +7895,7 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
 	PVS__BUF(b, nb, w.nxt, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
 	if (!pvs__bufs_alloc(a, b + 2, nb - 2)) goto done;
 	for (i = 0; i < nv; ++i) { ord[i].key = tl[5 * (size_t)i]; ord[i].index = i; }
-	pvs__key_index_sort(ord, nv); /* by direction (ties by slot: deterministic) */
+	pvs__key_index_sort(ord, nv); /* by direction (ties by slot) */
 	for (g0 = 0; g0 < nv; g0 = g1) {
 		for (g1 = g0 + 1; g1 < nv && ord[g1].key - ord[g0].key <= tol_a; ++g1) ;
 		for (i = g0; i < g1; ++i) {
@@ -7929,27 +7921,25 @@ done:
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) */
 
-/* Proving hidden things hidden dominates cost (shortcuts: tests/BENCHMARKS.md, otree). */
+/* Proving hidden things hidden dominates cost (tests/BENCHMARKS.md, otree). */
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* per-occluder doubles (pvs__ot25_prepare) */
-/* kD nodes with fewer item references untested (cf. §4.12.1: none below 50 polygons) */
+/* kD nodes with fewer item refs untested (cf. §4.12.1: none below 50 polygons) */
 #define PVS__OT25_TEST_MIN 48
 
-/* Hidden-height bound (§6.5.5's max visibility distance, valid in 2.5D where occluders seen over): in-leaf's lines
-   cross every member j. Ray on one from eye p <= H = t->eye high passing over j (top h_j > H) rises at slope >= s =
-   (h_j - H) / reach_j (|pc| <= reach_j at crossing c): points >= n > reach_j from cell, lower than H + s n, hidden.
-   Leaves keep steepest member (mr = reach, ms = s), inner nodes children's max reach, min slope; none (DBL_MAX) over
-   out-leaves and members no taller than eyes. */
+/* Hidden-height bound (§6.5.5's max visibility distance, 2.5D): in-leaf's lines cross every member j. Ray from eye <=
+   H = t->eye high over j (top h_j > H) rises at slope >= s = (h_j - H) / reach_j: points >= n > reach_j from cell,
+   lower than H + s n, hidden. Leaves keep steepest member (mr = reach, ms = s), inner nodes children's max reach, min
+   slope; none (DBL_MAX) over out-leaves and members no taller than eyes. */
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	(void)t;
 	if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join) */
 	nd->mr = nd->ml = DBL_MAX;
 	nd->ms = nd->mls = 0.0;
 }
-/* Member k joins in-leaf `node`, whose lines cross k within [f0, f1] only: reach there (cell corner to that part's end)
-   <= jd[8], slope >= jd[9]. Leaf keeps steepest member (mr, ms), least-reach one (ml, mls), valid for later splits'
-   parts too. */
+/* Member k joins in-leaf `node`, whose lines cross k within [f0, f1] only: reach there <= jd[8], slope >= jd[9]. Leaf
+   keeps steepest member (mr, ms), least-reach one (ml, mls), valid for later splits' parts. */
 PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
 	const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
 	pvs__otnode *nd = t->nodes + node;
@@ -7970,7 +7960,7 @@ PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double
 	if (sl > nd->ms || (sl == nd->ms && r < nd->mr)) { nd->ms = sl; nd->mr = r; }
 	if (r < nd->ml) { nd->ml = r; nd->mls = sl; }
 }
-/* Parameter hull on segment e of q's lines (vertices), clamped to [0, 1]. */
+/* Parameter hull on segment e of q's lines, clamped to [0, 1]. */
 PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double *f0, double *f1) {
 	double lo = DBL_MAX, hi = -DBL_MAX, u;
 	int i;
@@ -7994,7 +7984,7 @@ PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
 	nd->mls = mls;
 	return 1;
 }
-/* Recomputes bounds of subtree `node` (just rebuilt from leaf: short chain), then ancestors' till unchanged. */
+/* Recomputes bounds of subtree `node` (short chain), then ancestors' till unchanged. */
 PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
 	pvs__otnode *nd = t->nodes + node;
 	if (nd->kind) { pvs__ot25_leaf_bound(t, nd); return; }
@@ -8021,11 +8011,9 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 }
 
 /* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from eyes
-   at height H = t->eye anywhere over cell (§7.1: falling ray seen at least as well from its 2D line's cell exit,
-   rising one from its entry; both on top edges): open interval (u0, u1) on e where all such rays pass below j's top.
-   For eye p, q below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D: signed distance to j's line (> 0 on source side);
-   monotone in D(p), so corners' extreme D (clamped at 0: eyes behind j's line never look over it) cover all eyes
-   (thesis's pi_o / pi_s over whole cell): one tree per edge serves both. 0 if empty. */
+   at height H = t->eye over cell (§7.1): open interval (u0, u1) on e where all such rays pass below j's top. For eye
+   p, q below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D: signed distance to j's line (> 0 on source side); monotone
+   in D(p), so corners' extreme D (clamped at 0) cover all eyes (thesis's pi_o / pi_s). 0 if empty. */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
 								double *u1) {
 	double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
@@ -8056,10 +8044,10 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0
 	return 1;
 }
 
-/* Occluder j's per-tree data: jd[0..2] line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on source edge's side);
+/* Occluder j's per-tree data: jd[0..2] line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on source side);
    jd[3..4] cell corners' min, max D (clamped at 0); jd[5] 1 if source edge on one side; jd[6] top - eyes; jd[7] 0: no
-   umbra (source edge midpoint on its line, or point); jd[8] reach (max cell-point distance, rounded up); jd[9] (top -
-   eyes) / reach if taller than eyes, else 0. */
+   umbra (source edge midpoint on line, or point); jd[8] reach (max cell-point distance, rounded up); jd[9] (top - eyes)
+   / reach if taller than eyes, else 0. */
 PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	const double *sg = t->seg + 4 * (size_t)j;
 	double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1],
@@ -8091,8 +8079,8 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 }
 
 /* Part of far segment e (height h) seen over front members of payload seq[first..+count) in q's funnel: parameter hull
-   [*v0, *v1] in funnel range [*f0, *f1]; members crossing `skip_box` (2D, or NULL) or not clearly in front ignored
-   (conservative). 0 if none. */
+   [*v0, *v1] in funnel range [*f0, *f1]; members crossing `skip_box` (2D, or NULL) or not clearly in front ignored. 0
+   if none. */
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
 							   const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
 							   double *v1) {
@@ -8115,11 +8103,10 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 				fmax(sj[1], sj[3]) >= poly[1] && pvs__ot_segment_meets_polygon(sj, poly, 4))
 				continue;
 		}
-		/* quick order: e wholly beyond j's line: j in front on lines crossing both; wholly on source side: behind */
+		/* quick order: e wholly beyond j's line: j in front; wholly on source side: behind */
 		s0 = jd[0] * e[0] + jd[1] * e[1] + jd[2];
 		s1 = jd[0] * e[2] + jd[1] * e[3] + jd[2];
-		/* umbra first (cheap): one missing funnel range never moves v0, v1 (no depth order); one covering it hides e if
-		   j in front */
+		/* umbra first (cheap): one missing funnel range never moves v0, v1; one covering it hides e if j in front */
 		if (!pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1]) || um[nu][1] <= flo || um[nu][0] >= fhi)
 			continue;
 		if (jd[5]) {
@@ -8137,7 +8124,7 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 	}
 	*f0 = flo; *f1 = fhi;
 	*v0 = flo; *v1 = fhi;
-	/* first, last parameter of [flo, fhi] outside all umbrae (touching ones join) */
+	/* first, last parameter of [flo, fhi] outside all umbrae */
 	do {
 		changed = 0;
 		for (i = 0; i < nu; ++i)
@@ -8153,15 +8140,14 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 }
 
 #define PVS__OT25_MAX_SEQ 32
-/* Lazy funnel splitting: under this many members leaf takes partly visible occluders whole. Conservative: leaf's lines
-   all cross it, its extended umbra holding there, seen or not (thesis keeps hidden occluders in S_L too, §7.5.2); leaf
-   answers at least as tightly, with longer sequence. From this length splitting (<= 3, §7.5.2) bounds it
-   (tests/BENCHMARKS.md, otree). */
+/* Lazy funnel splitting: under this many members leaf takes partly visible occluders whole (conservative: thesis keeps
+   hidden occluders in S_L too, §7.5.2). From this length splitting (<= 3, §7.5.2) bounds it (tests/BENCHMARKS.md,
+   otree). */
 #define PVS__OT25_SPLIT_MIN 16
 
-/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at in-leaf funnel test clips
-   k's top edge by front members' extended umbrae; if part stays visible leaf gets k, split (from PVS__OT25_SPLIT_MIN
-   members) in <= 3: primary funnel (rays through visible part): members, k; others: members. */
+/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; in-leaf funnel test clips k's
+   top edge by front members' extended umbrae; if part visible leaf gets k, split (from PVS__OT25_SPLIT_MIN members) in
+   <= 3: primary funnel (rays through visible part): members, k; others: members. */
 PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
@@ -8211,8 +8197,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 	t->stack_count = base;
 }
 
-/* Kind of leaf holding unit line w (descending with w alone); 0 if w within 1e-9 of plane on path or outside lines
-   leaving via source edge. */
+/* Kind of leaf holding unit line w; 0 if w within 1e-9 of plane on path or outside lines leaving via source edge. */
 PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	uint32_t node = 0;
 	int in_root = 0;
@@ -8228,8 +8213,7 @@ PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 }
 
 /* Early exit of pvs__ot25_box_visible (§3.3.4): 1 if witness line still in out-leaf crosses box bx's interior (wholly
-   beyond source edge a -> b): it leaves via source edge, meets no occluder, then 2 box sides, one tested by
-   box_visible, reaching that out-leaf. Margins of 1e-6 of scene size absorb rounding; 0: full test. */
+   beyond source edge a -> b). Margins of 1e-6 of scene size absorb rounding; 0: full test. */
 PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const double a[2], const double b[2]) {
 	double nx = a[1] - b[1], ny = b[0] - a[0], mg = 1e3 * t->len_eps, near;
 	int i, k;
@@ -8270,8 +8254,8 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 
 /* Read-only test (§3.3.4): 1 if blocker line may pass stored occluders (or OOM). Splits with slack, stops at first
    visible leaf. 2D (§6.5.3; e NULL, h unused): line reaches occluder k before any stored one; slivers
-   (pvs__ot_thickness) do not count: insertion's rounding (order) is moot. 2.5D (c-LSS): part of far edge e (height h)
-   of box `box` may be seen. near: distance for subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
+   (pvs__ot_thickness) ignored. 2.5D (c-LSS): part of far edge e (height h) of box `box` may be seen. near: distance for
+   subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 								const double *e, const double *box) {
 	size_t base = t->stack_count, top;
@@ -8290,7 +8274,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 			continue;
 		}
 		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, top, e ? near : -1.0, h); continue; }
-		t->stack_count = top; /* polygon readable in slot till next push */
+		t->stack_count = top; /* polygon readable in slot until next push */
 		if (e) {
 			if (nd->kind == PVS__OT_OUT) pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top));
 			vis = nd->kind == PVS__OT_OUT || pvs__ot25_open(t, PVS__OT_ITEM(t, top), nd->first, nd->count, PVS__OT_NONE,
@@ -8306,7 +8290,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 			vis |= !pvs__ot2_xsplit(t, node, &q, x);
 			continue;
 		}
-		if (front || !behind) vis = 1; /* in front somewhere, or all tie (collinear): visible */
+		if (front || !behind) vis = 1; /* in front somewhere, or all tie: visible */
 	}
 	t->stack_count = base;
 	return vis || t->oom;
@@ -8317,8 +8301,8 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
 									  int *any_far) {
 	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* source edge's outward direction */
-	/* bound counts every member, also those crossing box that pvs__ot25_open ignores (wall on ground tile would hide
-	   its far edge): with whole box's nearness, member of smaller reach is wholly nearer */
+	/* bound counts every member, also those crossing box (ignored by pvs__ot25_open): with whole box's nearness, member
+	   of smaller reach is wholly nearer */
 	double near = pvs__ot25_near(t, bx);
 	int i, vis = 0, far_edge, order[3];
 	c4[0] = c4[6] = bx[0];
@@ -8327,10 +8311,9 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 	c4[5] = c4[7] = bx[3];
 	if (any_far) *any_far = 0;
 	if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
-	/* Box taller than eyes is seen, if at all, along rising ray, best where its 2D line enters it; lower one along
-	   falling ray, where it leaves (farther point at equal height is higher over every occluder in front; members
-	   crossing box ignored by pvs__ot25_open). No line enters via box edge facing away from source or leaves via one
-	   facing it (edges 0..3: -v, +u, +v, -u): entry (exit) edge first, likeliest seen, then sides. */
+	/* Box taller than eyes is seen, if at all, along rising ray, best at its 2D line's entry; lower one along falling
+	   ray, at exit. Lines enter only via box edges facing source, leave via others (edges 0..3: -v, +u, +v, -u): entry
+	   (exit) edge first, then sides. */
 	if (fabs(nx) > fabs(ny)) far_edge = nx > 0 ? 1 : 3;
 	else far_edge = ny > 0 ? 2 : 0;
 	order[0] = top > t->eye ? (far_edge + 2) & 3 : far_edge;
@@ -8374,9 +8357,8 @@ typedef struct pvs__ot25_sweep {
 	uint32_t test_min;
 } pvs__ot25_sweep;
 
-/* Sweep visitor (§7.7), front to back: node meeting cell visible; inner node with >= w->test_min item refs: box
-   (footprint edges at top) tested as object's, culled if hidden; leaves insert facades, mark objects to test after
-   sweep. */
+/* Sweep visitor (§7.7), front to back: node meeting cell visible; inner node with >= w->test_min item refs: box tested
+   as object's, culled if hidden; leaves insert facades, mark objects to test later. */
 PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 									  uint32_t item_count) {
 	pvs__ot25_sweep *w = (pvs__ot25_sweep *)user;
@@ -8393,7 +8375,7 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 		far = nx * (nx > 0 ? bx[2] : bx[0]) + ny * (ny > 0 ? bx[3] : bx[1]) - (nx * w->a[0] + ny * w->a[1]);
 		if (far < -t->len_eps * (fabs(nx) + fabs(ny) + 1.0)) return PVS_VISIT_SKIP;
 	}
-	/* leaves untested: inserting facades, testing objects later costs less (§4.12.1) */
+	/* leaves untested: inserting facades, testing objects later is cheaper (§4.12.1) */
 	if (!items && w->refs[w->node] >= w->test_min &&
 		!(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
 		if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, NULL)) return PVS_VISIT_SKIP;
@@ -8426,16 +8408,15 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 	return PVS_VISIT_DESCEND;
 }
 
-/* Approximate occlusion sweep (§3.2, pvs__kd_sweep) telling visitor its node (w->node). */
+/* Approximate occlusion sweep (§3.2, pvs__kd_sweep), visitor told its node (w->node). */
 PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 									  pvs__ot25_sweep *w) {
 	pvs__kd_sweep(t, source, heap, pvs__ot25_visit, w, &w->node);
 }
 
-/* Balanced top of source edge's tree: front-to-back insertion carves open region (lines down street) into chain as deep
-   as occluders along it, walked by later queries. Splitting root first by (exact) planes of PVS__OT25_PRESPLIT far
-   points over all directions leaves short chains, one per direction sector. Reorders pts[lo..hi): each with child
-   holding its line from m. */
+/* Balanced top of source edge's tree: front-to-back insertion makes open region a deep chain. Splitting root first by
+   (exact) planes of PVS__OT25_PRESPLIT far points over all directions leaves short chains, one per sector. Reorders
+   pts[lo..hi): each with child holding its line from m. */
 #define PVS__OT25_PRESPLIT 16
 PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
 	double l[3], tmp[PVS__OT25_PRESPLIT][2];
@@ -8491,8 +8472,8 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
 }
 
 /* 2.5D input relative to cell centre (cx, cy): facade segments into all (4 doubles), objects into box (u0 v0 u1 v1
-   top), cell rectangle grown by *margin into cell (4 CCW corners; larger cell sees more: conservative, never
-   degenerate). Returns facades' max |coordinate|, >= 1. */
+   top), cell rectangle grown by *margin into cell (4 CCW corners; never degenerate). Returns facades' max |coordinate|,
+   >= 1. */
 PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
 								   double cell[8], double *margin) {
 	double ext = 1.0, hx, hy;
@@ -8515,8 +8496,8 @@ PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double c
 }
 
 /* Root region of fresh tree for source edge a-b (cell centred at origin): lines crossing edge, bounded by its ends'
-   planes (blocker edges on them then marked, §4.10.1, not re-added per branch), then pvs__ot25_presplit. Lines missing
-   edge never queried. OOM sets t->oom. */
+   planes (blocker edges on them marked, §4.10.1), then pvs__ot25_presplit. Lines missing edge never queried. OOM sets
+   t->oom. */
 PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double a[2], const double b[2]) {
 	double m[2], m2[2], l[3], sa_, sb_;
 	uint32_t pos;
@@ -8545,8 +8526,8 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 }
 
 /* One tree per top edge (§7.1): lines leaving cell via edge `side` (corner side + 1 to corner side), built by sweeping
-   `tree`; candidates left by its visible leaves then tested (§7.7) into visible_objects. 0 if no object left to decide
-   or tree stopped (t->oom: OOM). */
+   `tree`; its visible leaves' candidates tested (§7.7) into visible_objects. 0 if no object left to decide or tree
+   stopped (t->oom: OOM). */
 PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
 							   pvs_word *visible_objects) {
 	pvs__otree *t = w->t;
@@ -8598,7 +8579,7 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
 	return r;
 }
 
-/* Per kD node: item references in subtree (0xffffffff where children do not follow parent). */
+/* Per kD node: item refs in subtree (0xffffffff where children don't follow parent). */
 PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
 	uint32_t i;
 	for (i = tree->node_count; i-- > 0;) {
@@ -8729,10 +8710,9 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 
 /* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes through eye (unit normal);
    in-leaf: fragment blocking its ray pyramid. Edge marks: §4.10.1. Conservative: in-leaf region meets exact stored
-   planes, so all its rays meet occluder; insertion may drop slivers below tol, never claim more. Tests widen: box
-   descends all sides within `tol` (1e-10 x eye-relative scene size, >> unit-normal dot error), is behind fragment or
-   outside its pyramid only beyond fragment's tol. Box tests: each plane at sign-picked corner, same ops for all boxes,
-   so monotone: hidden node's child never tests visible; hierarchy updating exact (§4.11.4). */
+   planes; insertion may drop slivers below tol. Tests widen by `tol` (1e-10 x eye-relative scene size, >> unit-normal
+   dot error): box descends all sides within it, hidden only beyond it. Each plane tested at sign-picked corner, same
+   ops for all boxes: monotone, so hierarchy updating exact (§4.11.4). */
 
 #define PVS__SV_MAXV 16
 #define PVS__SV_STACK 256
@@ -8880,7 +8860,7 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 	return m;
 }
 
-/* Points p (n <= PVS__SV_MAXV) eye-relative into v; mean c, Newell normal nrm (2x area vector). */
+/* Points p (n <= PVS__SV_MAXV) eye-relative into v; mean c, Newell normal nrm (2x area). */
 PVS__STATIC void pvs__sv_eye_points(const pvs_otree *o, const float *const *p, int n, double (*v)[3], double c[3],
 									double nrm[3]) {
 	int i, k;
@@ -8899,8 +8879,8 @@ PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) {
 	return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
-/* Eye-space polygon of occluder points p (planar, convex), plane, edge planes, frustum-clipped (less occluder:
-   conservative); 0 if unusable (edge-on, behind eye, outside). */
+/* Eye-space polygon of occluder points p (planar, convex), plane, edge planes, frustum-clipped (conservative); 0 if
+   unusable (edge-on, behind eye, outside). */
 PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs__svpoly *q, double plane[4]) {
 	pvs__svpoly a, b;
 	double c[3], nrm[3], len, size = 0.0;
@@ -8978,7 +8958,7 @@ PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpo
 }
 
 /* Merges occluder polygon q (§3.3.3, App. C.1.4): filtered down, split, edges marked; out-leaves become its e-OT;
-   in-leaves: replaces stored fragment where in front (approximate sweep may insert nearer occluder late). */
+   in-leaves: stored fragment replaced where q in front. */
 PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const double plane[4]) {
 	uint32_t sp = 0;
 	o->stack[0] = *poly;
@@ -8996,7 +8976,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 				if (d < lo) lo = d;
 				if (d > hi) hi = d;
 			}
-			if (lo >= -ins || hi <= ins) { /* one side; its edges in this plane marked */
+			if (lo >= -ins || hi <= ins) { /* one side; edges in this plane marked */
 				int side = lo >= -ins ? 1 : 0;
 				for (i = 0; i < q->n; ++i)
 					if (side ? pvs__sv_same(q->e[i], nd->n)
@@ -9061,8 +9041,7 @@ PVS__STATIC void pvs__sv_extent(const pvs__svvert *v, uint32_t count, const doub
 }
 
 /* Eye-relative box [lo, hi] vs in-leaf fragment f (§4.10.2): invisible if wholly behind its plane or (unless
-   PLANE_ONLY) apart from pyramid eye + fragment, its only view via this leaf (exact test "E"); visible if wholly in
-   front; else partly. */
+   PLANE_ONLY) apart from pyramid eye + fragment (exact test "E"); visible if wholly in front; else partly. */
 PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f, const double lo[3],
 									   const double hi[3]) {
 	const pvs__svvert *v = o->verts + f->first;
@@ -9081,7 +9060,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 			}
 			if (hi[k] < plo - t || lo[k] > phi + t) return PVS__SV_I;
 		}
-		for (i = 0; i < f->count; ++i) { /* extent over pyramid's points: valid for any axis */
+		for (i = 0; i < f->count; ++i) { /* extent over pyramid's points: any axis */
 			double plo, phi, bh = pvs__sv_hi(v[i].m, lo, hi);
 			pvs__sv_extent(v, f->count, v[i].m, &plo, &phi);
 			if (bh < -t ? bh < plo - t : pvs__sv_lo(v[i].m, lo, hi) > phi + t) return PVS__SV_I;
@@ -9138,7 +9117,7 @@ PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], c
 	return vis ? PVS__SV_V : PVS__SV_I;
 }
 
-/* Frustum (outside plane: invisible; crossing: <= partly), then tree. */
+/* Frustum (outside a plane: invisible; crossing: <= partly), then tree. */
 PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 	double lo[3], hi[3];
 	int k, cross = 0;
@@ -9192,8 +9171,8 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
 	}
 }
 
-/* Area-angle M = A |N . V| / |D|^2 (§4.5), V unit eye-to-centre D (~solid angle; thesis: view direction); -1 if wholly
-   outside frustum. */
+/* Area-angle M = A |N . V| / |D|^2 (§4.5), V unit eye-to-centre D (thesis: view direction); -1 if wholly outside
+   frustum. */
 PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int n) {
 	double v[4][3], c[3], area[3], dd;
 	int i, k;
@@ -9207,7 +9186,7 @@ PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int 
 	return 0.5 * fabs(pvs__sv_dot(area, c)) / (dd * sqrt(dd));
 }
 
-/* (key, a, b) ascending: deterministic whatever heap held. */
+/* (key, a, b) ascending: deterministic. */
 PVS__STATIC int pvs__sv_before(const void *pa, const void *pb) {
 	const pvs__svsel *x = (const pvs__svsel *)pa, *y = (const pvs__svsel *)pb;
 	return x->key < y->key || (x->key == y->key && (x->a < y->a || (x->a == y->a && x->b < y->b)));
@@ -9257,7 +9236,7 @@ PVS__STATIC void pvs__sv_child_boxes(const pvs__kdnode *nd, const pvs_box *box, 
 	c[1].min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
 }
 
-/* Flags objects below `node` with `flag` (visible subtree: no tests). */
+/* Flags objects below `node` with `flag` (no tests). */
 PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, uint8_t flag) {
 	const pvs_kdtree *t = o->s->object_tree;
 	const pvs__kdnode *nd = t->nodes + node;
@@ -9281,7 +9260,7 @@ PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, u
 }
 
 /* Fig. 4.5: last frame's termination nodes (leaves, nodes not partly visible or unvisited last frame) tested; opened
-   nodes skipped, children visited near first; agreeing children give it their state (pull-up). */
+   nodes skipped, near children first; agreeing children give it their state (pull-up). */
 PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 	const pvs_kdtree *t = o->s->object_tree;
 	const pvs__kdnode *nd = t->nodes + node;
@@ -9407,7 +9386,7 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *o, pvs_otree_frame *frame) {
 	if (o && frame) *frame = o->info;
 }
 
-/* New scene or near-wrap frame counter: all kD states stale; new scene: rebuilds object triangle ranges, forgets last
+/* New scene or near-wrap frame counter: all kD states stale; new scene: rebuilds object triangle ranges, forgets
    occluders. */
 PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
 	uint32_t i;
@@ -9484,9 +9463,9 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
 	return nocc;
 }
 
-/* Occluder selection (§4.5), insertion: best by area-angle among last frame's triangles (after reset: scene's, swept
-   from eye) and, with p->scene_volumes, occluder-volume faces within lambda; inserted nearest first (approximate
-   occlusion sweep, §3.2). Returns count offered. */
+/* Occluder selection (§4.5), insertion: best by area-angle among last frame's triangles (after reset: scene's) and,
+   with p->scene_volumes, occluder-volume faces within lambda; nearest first (approximate occlusion sweep, §3.2).
+   Returns count offered. */
 PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam,
 											 const pvs_cull_params *p) {
 	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
@@ -9635,10 +9614,9 @@ typedef struct pvs__otree_bake {
 	pvs_kdtree *tree[PVS__OT25_LEVELS]; /* per level, over pvs_visibility_25d_boxes */
 } pvs__otree_bake;
 
-/* c-LSS (§7.1) facades from scene walls (pvs__facades_extract), standing on ground (ray over one's 2D line passes only
-   above its top); ray height linear, facade of base b serves rays with both ends >= b: cell bottom c to object bottom o
-   needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (facade joins lowest at or above its base:
-   conservative); level k's kD-tree holds objects and facades of levels <= k. */
+/* c-LSS (§7.1) facades from scene walls (pvs__facades_extract), on ground; facade of base b serves rays with both ends
+   >= b: cell bottom c to object bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (facade
+   joins lowest level >= its base); level k's kD-tree holds objects and facades of levels <= k. */
 PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells,
 										  uint32_t cell_count) {
 	int up = s->up_axis == 2 ? 2 : 1, u, v;
@@ -9736,9 +9714,9 @@ done:
 	return r;
 }
 
-/* Cell (or adaptive part c): pvs_visibility_25d per needed level, testing objects with min(cell bottom, object bottom)
-   in [level k, k + 1) against facades of levels <= k; objects below lowest level visible. May add
-   PVS__BAKE_NO_OCCLUDERS, PVS__BAKE_OTREE_BUDGET to *flags. */
+/* Cell (or adaptive part c): pvs_visibility_25d per needed level: objects with min(cell bottom, object bottom) in
+   [level k, k + 1) tested against facades of levels <= k; below lowest level visible. May add PVS__BAKE_NO_OCCLUDERS,
+   PVS__BAKE_OTREE_BUDGET to *flags. */
 PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *c, uint32_t cell,
 									   pvs_word *bits, unsigned *flags, pvs_error *err) {
 	pvs_otree_stats st;
@@ -9912,7 +9890,7 @@ typedef struct pvs__vx_cols {
 /* Tight-box BVH over drawable objects or chains, each in one leaf. */
 typedef struct pvs__obvh_node {
 	pvs_box box;
-	uint32_t first, count; /* leaf: items[first..first + count); inner: count 0, children first, first + 1 */
+	uint32_t first, count; /* leaf: items[first..+count); inner: count 0, children first, first + 1 */
 	uint32_t parent;
 } pvs__obvh_node;
 typedef struct pvs__obvh {
@@ -9952,7 +9930,7 @@ PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j,
 }
 PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0; }
 
-/* Triangle-box overlap (Akenine-Moller 2001 SAT), double; hs has margin, radii up a hair: rounding errs to touched. */
+/* Triangle-box overlap (Akenine-Moller 2001 SAT), double; margin in hs, radii up a hair: rounding errs to touched. */
 PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b,
 							  const double *d) {
 	double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
@@ -10015,7 +9993,7 @@ PVS__STATIC int pvs__seg_meet(double ax, double ay, double bx, double by, double
 	return 1;
 }
 
-/* 1 if closed voxel box in explicit occluder (rounds toward "not inside"). */
+/* 1 if closed voxel box in explicit occluder (rounds to "not inside"). */
 PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, const double lo[3], const double hi[3]) {
 	int k, u, v;
 	uint32_t i, j;
@@ -10237,9 +10215,8 @@ PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int
 typedef void (*pvs__vx_visit_fn)(void *user, const uint32_t idx[3]);
 
 /* Visits cells of gr in [r0, r1] convex polygon p (3 points, or 2: segment) grown by m may meet: clipped to slabs along
-   k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] whose clips give k[0] ranges: long sliver costs its cells,
-   not its box. Candidates only; slabs grow 1e-3 cell beyond m, far above clip rounding: every cell an exact margin-m
-   test accepts is visited. */
+   k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] giving k[0] ranges. Candidates only; slabs grow 1e-3 cell
+   past m: visits every cell an exact margin-m test accepts. */
 PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m,
 							  const uint32_t r0[3], const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
 	double slab[3 * 8], tmp[3 * 8], row[3 * 8], g = m + 1e-3 * gr->h, h = gr->h;
@@ -10272,7 +10249,7 @@ PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, co
 	}
 }
 
-/* Radius-r min filter on axis k (outside = 0): Chebyshev erosion is separable. */
+/* Radius-r min filter on axis k (outside = 0): Chebyshev erosion separable. */
 PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t *line, int k, uint32_t r) {
 	uint32_t n = o->n[k], a, b, c, i;
 	size_t stride = k == 0 ? 1 : k == 1 ? o->n[0] : (size_t)o->n[0] * o->n[1];
@@ -10329,16 +10306,13 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
 /* ---- certified solid: crossing parity floods per edge-connected component ----
 
    Conservative: for triangles K and x above ground level g, w(x) = parity of K's triangles crossed by x's upward ray.
-   If K's edges have even use (except at up = g: no sight line between points above g dips below), w constant on each
-   connected piece of space minus K; odd (open) edge flips w across vertical sheet below it. Voxel: pure if no K
-   triangle or sheet within margin m (one w), mixed if only triangle (nodes w = 0, 1: joining equal-w parts
-   over-approximates connectivity), bad if sheet (one node). Free space open, so path avoiding K crosses voxels via
-   faces only, carrying face point's w: graph linking face neighbours' equal-w nodes (any node of bad voxel) holds all
-   such paths; outside K's voxel box (sheets end at g, inside it) is one w = 0 region. Flood from voxels meeting a cell,
-   and from outside if one leaves box, reaches all a viewer can walk to without touching K: pure voxel it misses is seen
-   from no cell, so sight lines through it meet triangle first. Solid for some triangles is solid for all: components
-   flood alone (overlapping meshes keep parity). w read per column on vertical line with certain orientation signs
-   (pvs__vx_cross). Slits, doors narrower than voxel give mixed or bad voxels, joining both sides. */
+   If K's edges have even use (except at up = g), w constant on each connected piece of space minus K; odd (open) edge
+   flips w across vertical sheet below it. Voxel: pure if no K triangle or sheet within margin m (one w), mixed if only
+   triangle (nodes w = 0, 1), bad if sheet (one node). Paths avoiding K cross voxels via faces: graph linking face
+   neighbours' equal-w nodes (any node of bad voxel) holds them all; outside K's voxel box is one w = 0 region. Flood
+   from voxels meeting a cell (and outside if one leaves box) reaches all a viewer can walk to without touching K: pure
+   voxel it misses is seen from no cell. Components flood alone. w read per column on vertical line with certain
+   orientation signs (pvs__vx_cross). Slits, doors narrower than voxel join both sides. */
 
 /* orient2d (b - a) x (p - a); *bound bounds its rounding (each difference, product rounded once: <= 4.5e-16 (|t1| +
    |t2|)): sign certain if |value| > *bound. No underflow for floats. */
@@ -10348,8 +10322,8 @@ PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, do
 	return t1 - t2;
 }
 
-/* Vertical line at (pu, pv) vs triangle a, b, c, certainly: 0 misses, 1 crosses inside at height *z (within *dz); -1
-   undecidable (near edge, vertex, or uncertain height). */
+/* Vertical line at (pu, pv) vs triangle a, b, c: 0 misses, 1 crosses inside at height *z (within *dz); -1 undecidable
+   (near edge, vertex, or uncertain height). */
 PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu,
 							  double pv, double *z, double *dz) {
 	const float *p[3];
@@ -10373,8 +10347,8 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 	}
 	if (pos && neg) return 0;
 	if (unsure) return -1;
-	/* inside: barycentric weights |o| (o[1], o[2], o[0] for a, b, c), each within relative error r: weighted mean
-	   height errs <= range 2r / (1 - r) */
+	/* inside: barycentric weights |o| (o[1], o[2], o[0] for a, b, c), each within relative error r: mean height errs <=
+	   range 2r / (1 - r) */
 	PVS__FOR3(i) r = pvs__dmax(r, bd[i] / pvs__dabs(o[i]));
 	if (r >= 0.25) return -1;
 	w0 = pvs__dabs(o[1]); w1 = pvs__dabs(o[2]); w2 = pvs__dabs(o[0]);
@@ -10431,7 +10405,7 @@ PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint
 	PVS__ZERO(*t);
 }
 
-/* 1 if flat at ground level g (left out: bounds nothing above g). */
+/* 1 if flat at ground level g (bounds nothing above g). */
 PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) {
 	uint32_t up = s->up_axis, k;
 	PVS__FOR3(k)
@@ -10451,7 +10425,7 @@ PVS__STATIC void pvs__weld(const pvs_scene *s, pvs__vx_vkey *vk, uint32_t *canon
 		canon[vk[i].i] = i > 0 && !pvs__fpoint_cmp(vk[i - 1].p, vk[i].p, 3) ? canon[vk[i - 1].i] : i;
 }
 
-/* Edge-connected components (vertices matched by exact position), open edges (odd use, not both at ground g). */
+/* Edge-connected components (vertices matched exactly), open edges (odd use, not both at ground g). */
 PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_allocator *a, pvs__vx_topo *t) {
 	uint32_t nv = s->vertex_count, nt = s->triangle_count, i, k, up = s->up_axis, ne = 0, c;
 	pvs__vx_vkey *vk = NULL;
@@ -10565,7 +10539,7 @@ typedef struct pvs__vx_flood {
 } pvs__vx_flood;
 #define PVS__VX_BUCKET 8u /* voxel columns per bucket side */
 
-/* Column test line positions, voxel fractions (deliberately unstructured). */
+/* Column test line positions, voxel fractions (unstructured). */
 static const double pvs__vx_line_u[8] = {0.4142, 0.7071, 0.2360, 0.8660, 0.5773, 0.1547, 0.6458, 0.3183};
 static const double pvs__vx_line_v[8] = {0.6180, 0.2679, 0.7937, 0.4472, 0.1213, 0.8944, 0.3660, 0.5403};
 
@@ -10587,8 +10561,8 @@ PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, 
 	pvs__vx_push(bits, queue, qt, vi, (f & (PVS__G_B | PVS__G_T)) ? 0 : (f & PVS__G_W) != 0);
 }
 
-/* w of cell cb, clear of K by m (shared by its points): parity of K's crossings above point of cb on vertical line
-   (none within m); -1 if 8 lines fail. */
+/* w of cell cb, clear of K by m: parity of K's crossings above point of cb on vertical line (none within m); -1 if 8
+   lines fail. */
 PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
 	uint32_t up = s->up_axis, t, line;
 	int u, v;
@@ -10731,7 +10705,7 @@ PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3
 			p[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (size_t)e] + (size_t)kk];
 }
 
-/* pvs__vx_scan visitors, steps 2, 3: box column at a time. */
+/* pvs__vx_scan visitors, steps 2, 3: a box column at a time. */
 typedef struct pvs__vx_colvisit {
 	const pvs__vx_grid *gr;
 	uint8_t *bits, *col; /* box voxels from lo; its columns (rows of d[u]) */
@@ -10860,8 +10834,8 @@ PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
 	}
 }
 
-/* Step 3, pure voxels' w: column's crossings with one vertical line toggle PVS__G_F at their layer; all 8 line
-   positions failing make it bad (info.undecided_columns). PVS__G_W where odd crossings above. */
+/* Step 3, pure voxels' w: column's crossings with a vertical line toggle PVS__G_F at their layer; all 8 line positions
+   failing make it bad (info.undecided_columns). PVS__G_W where odd crossings above. */
 PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
 	const pvs_scene *s = fb->s;
 	const pvs__vx_topo *tp = fb->tp;
@@ -11007,11 +10981,10 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
 	return nnear;
 }
 
-/* Step 4, sources: cells meeting box (one clear of K by m is convex, free: its voxels get its w's node; else all
-   nodes), and outside if cell partly outside. Leaking cells (through closed level's wall into mesh's faceless void)
-   would flood every wall's interior, so if under half active cells lie outside box, outside floods first; cells
-   outside, partly outside or reached excluded if together under half. Excluded cells seed no later flood, get no
-   occluder (pvs_shrink_cell sets all objects for them); argument holds for rest. Sources left in fl->queue; returns
+/* Step 4, sources: cells meeting box (one clear of K by m: its voxels get its w's node; else all nodes), and outside if
+   cell partly outside. Leaks (cells into mesh's void) would flood wall interiors: if under half active cells lie
+   outside box, outside floods first; cells outside, partly outside or reached excluded if together under half. Excluded
+   cells seed no later flood, get no occluder (pvs_shrink_cell: all objects). Sources left in fl->queue; returns
    pvs__vx_flood_run's ext. */
 PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
 	pvs__vx_flood *fl = fb->fl;
@@ -11091,7 +11064,7 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
 	return pvs__vx_flood_run(fl->bits, fl->queue, &qh, &qt, fb.d, fb.stride, lo, fb.up, ext);
 }
 
-/* Certifies K on occluders' grid: unflooded pure voxels solid; if never entered, all outside box but ground too. */
+/* Certifies K on occluders' grid: unflooded pure voxels solid; if never entered, outside box but ground too. */
 PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
 								 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
 	uint32_t d[3], i, j, k;
@@ -11122,10 +11095,9 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
 /* ---- 2.5D occluders: proved-solid columns at finer resolution, eroded by distance ----
 
    Each component floods again on own grid (voxel eps, grown within budgets). Column-map square (side eps / 2, larger
-   past PVS__VX_MAP_BUDGET): solid height = min top of proved-solid ground runs in voxel columns it overlaps; occluder
-   height (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below component's triangles within eps of it:
-   every point below has eps-ball free of component, joined to proved solid, so sight lines through it meet triangle
-   first. Squares grow by margin above coordinate float precision. */
+   past PVS__VX_MAP_BUDGET): solid height = min top of proved-solid ground runs in its voxel columns; occluder height
+   (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below component's triangles within eps. Squares grow by
+   margin above coordinate float precision. */
 
 #define PVS__VX_BOX_BUDGET (1u << 23)
 #define PVS__VX_MAP_BUDGET (1u << 22)
@@ -11175,7 +11147,7 @@ typedef struct pvs__vx_tminvisit {
 	float *tmin; /* per square from (su0, sv0), rows of row */
 	uint32_t su0, sv0, row;
 } pvs__vx_tminvisit;
-/* Lower bounds letting pvs__vx_tmin_visit skip clip (stacked triangles meet square often). */
+/* Lower bounds letting pvs__vx_tmin_visit skip clip. */
 PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
 	const double *a = tv->p[0], *b = tv->p[1], *c = tv->p[2];
 	int u = tv->u, v = tv->v, up = tv->up;
@@ -11203,10 +11175,10 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
 	size_t x = (size_t)(j - tv->sv0) * tv->row + (i - tv->su0);
 	double h = tv->gr->h, e = tv->e, x0 = tv->gr->origin[tv->u] + i * h, y0 = tv->gr->origin[tv->v] + j * h, z;
 	double lim[8], x1 = x0 + h, y1 = y0 + h, ed = e * 1.4142135623730951 * (1.0 + 1e-12);
-	/* square + octagon around radius-e disc: holds all points within e */
+	/* square + octagon around radius-e disc: all points within e */
 	lim[0] = -(x0 - e); lim[1] = x1 + e; lim[2] = -(y0 - e); lim[3] = y1 + e;
 	lim[4] = -(x0 + y0 - ed); lim[5] = x1 + y1 + ed; lim[6] = -(x0 - y1 - ed); lim[7] = x1 - y0 + ed;
-	z = tv->zlo; /* lower bound: lowest corner or plane min over square */
+	z = tv->zlo; /* lower bound: lowest corner or plane min */
 	if (tv->sloped) {
 		double zp = tv->p[0][tv->up] - tv->gu * ((tv->gu > 0.0 ? x0 - e : x1 + e) - tv->p[0][tv->u]) -
 					tv->gv * ((tv->gv > 0.0 ? y0 - e : y1 + e) - tv->p[0][tv->v]);
@@ -11316,7 +11288,7 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 			top = pvs__dmin(hsub, (double)tmin[xs] - eps);
 			if (top > g && pvs__f_down(top) > cm->top[x]) cm->top[x] = pvs__f_down(top);
 		}
-	if (!ext) { /* no viewer outside box: outside solid to grid top; occluders there eps (+ margin) off it */
+	if (!ext) { /* no viewer outside box: outside solid to grid top; occluders eps (+ margin) off it */
 		float sky = pvs__f_down(o->origin[up] + o->n[up] * o->h);
 		uint32_t e0, e1, f0, f1;
 		pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, e, &e0, &e1);
@@ -11360,13 +11332,13 @@ PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int
 }
 
 /* Simplifies loop of n integer points (region on left) from inside, in place (pt: room for 2n): from each kept point to
-   farthest later one whose chord keeps skipped points right of or on it, <= a square off (area lost, never added),
-   meeting no other loop edge. Slanted-wall staircases: long edges shadowing whole cull-map cells. Returns count. */
+   farthest later one whose chord keeps skipped points right of or on it, <= a square off, meeting no other loop edge.
+   Returns count. */
 PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 	uint32_t i = 0, kept = 0, j, k, start;
 	int32_t *out;
 	if (n < 5) return n;
-	/* start at kept point: lowest-leftmost is convex */
+	/* start at kept point: lowest-leftmost convex */
 	start = 0;
 	for (k = 1; k < n; ++k)
 		if (pt[2 * k + 1] < pt[2 * start + 1] || (pt[2 * k + 1] == pt[2 * start + 1] && pt[2 * k] < pt[2 * start]))
@@ -11409,7 +11381,7 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 
 /* Traces boundary loops of mask's set squares (w x h, empty frame around), set on left, turning left where diagonal
    squares meet (4-connected). Simplified, each: chain of heights [base, top], point (i, j) at (ox + i c, oy + j c):
-   outer (CCW) loops closed, holes (not solid) open, repeating first point. used: 4 (w + 1) (h + 1) bytes. 0: OOM. */
+   outer (CCW) loops closed, holes open, repeating first point. used: 4 (w + 1) (h + 1) bytes. 0: OOM. */
 PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
 							  uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
 							  int32_t **ip, size_t *ipcap) {
@@ -11458,7 +11430,7 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 					e = 4 * (vy * (w + 1) + vx) + (uint32_t)d;
 					if (e == start) break;
 				}
-				/* corners only, then simplify (buffer: 2n points) */
+				/* corners, then simplify (buffer: 2n points) */
 				for (q = 0; q < n; ++q) {
 					const int32_t *pp = *ip + 2 * ((q + n - 1) % n), *pc = *ip + 2 * q, *pn = *ip + 2 * ((q + 1) % n);
 					if ((pp[0] == pc[0] && pc[0] == pn[0]) || (pp[1] == pc[1] && pc[1] == pn[1])) continue;
@@ -11641,8 +11613,7 @@ PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_
 }
 
 /* 2.5D chains: occluder heights quantized down to quarter squares; per 4-connected region of squares at or above one of
-   its levels, its boundary there. Level-set tree: block of several heights is one chain at its lowest plus one per
-   taller part: no crack opens between heights. */
+   its levels, its boundary there (level-set tree: no crack between heights). */
 PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
 	pvs__vx_cols *cm = &o->cols;
 	const pvs_allocator *al = &o->allocator;
@@ -11724,7 +11695,7 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
 }
 
 /* Components' grid voxel: eps, grown by 1.26 while their boxes exceed PVS__VX_TOTAL_BUDGET voxels (or
-   PVS__VX_COMPONENT_SHARE each, if more): flood cost ~ scene size, whatever eps. */
+   PVS__VX_COMPONENT_SHARE each, if more): flood cost ~ scene size. */
 #define PVS__VX_TOTAL_BUDGET (1u << 26)
 #define PVS__VX_COMPONENT_SHARE (1u << 16)
 PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx_topo *tp, const pvs_allocator *al,
@@ -11875,14 +11846,14 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 }
 
 /* pvs_occluders_create's shared step state. Steps return PVS_OK or OOM; pvs__vx_build_free frees what error paths
-   leave; step freeing buffer NULLs it. */
+   leave; steps NULL freed buffers. */
 typedef struct pvs__vx_build {
 	const pvs_occluders_desc *d;
 	const pvs_scene *s;
 	pvs_allocator a;
 	pvs_occluders *o;
 	pvs_box ext; /* scene and cell bounds */
-	double g, h, m; /* ground, voxel size, margin voxel tests round toward "touched" */
+	double g, h, m; /* ground, voxel size, margin: voxel tests round to "touched" */
 	uint32_t up;
 	int u, v;
 	size_t total, qcap, nbuckets;
@@ -11908,7 +11879,7 @@ PVS__STATIC void pvs__vx_flood_free(pvs__vx_build *b) {
 	fl->queue = fl->bucket_first = fl->bucket_cells = fl->stamp = NULL;
 }
 
-/* Frees leftover step scratch (b->o stays: caller destroys it). */
+/* Frees leftover step scratch (caller destroys b->o). */
 PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
 	const pvs_allocator *a = &b->a;
 	pvs__vx_flood_free(b);
@@ -11921,7 +11892,7 @@ PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
 }
 
 /* Voxel grid over scene and cells: voxel_size or eps / 1.5 (erosion: 2 voxels = 1.33 eps), grown by 1.08 to fit
-   max_voxels; layer 0 below ground. Allocates b->o, its state, eroded, b->tmp, b->line; on failure none (err: why). */
+   max_voxels; layer 0 below ground. Allocates b->o, its state, eroded, b->tmp, b->line; none on failure (err: why). */
 PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	const pvs_occluders_desc *d = b->d;
 	const pvs_allocator *a = &b->a;
@@ -12046,7 +12017,7 @@ PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Step 1's component boxes (b->cbox, pvs__vx_comp_box); flood scratch sized for largest 3+ triangle box. */
+/* Step 1's component boxes (b->cbox, pvs__vx_comp_box); flood scratch for largest 3+ triangle box. */
 PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
 	const pvs_scene *s = b->s;
 	const pvs__vx_topo *tp = &b->tp;
@@ -12140,9 +12111,8 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 	}
 }
 
-/* Step 3, leak diagnostic: 6-connected flood from grid border through voxels not touched, ground or explicit (path
-   meeting no triangle). info.leak_cells: cells reached; info.leak_cell, leak_point: lowest, reached voxel. Uses
-   b->queue (total entries). */
+/* Step 3, leak diagnostic: 6-connected flood from grid border through voxels not touched, ground or explicit.
+   info.leak_cells: cells reached; info.leak_cell, leak_point: lowest, reached voxel. Uses b->queue. */
 PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
 	const pvs_occluders_desc *d = b->d;
@@ -12431,7 +12401,7 @@ PVS__STATIC pvs_result pvs__walk_solids(pvs__walk *k, pvs_error *err) {
 	if (pvs__vx_topology(s, s->bounds.min[k->up], &k->d.allocator, &k->tp) != PVS_OK) return PVS__OOM(err, "meshes");
 	k->cbox = PVS__ALLOC_N(&k->d.allocator, pvs_box, k->tp.comp_count + 1);
 	if (!k->cbox) return PVS__OOM(err, "mesh boxes");
-	for (c = 0; c < k->tp.comp_count; ++c) { /* closed, or open only around base: standing on floor */
+	for (c = 0; c < k->tp.comp_count; ++c) { /* closed, or open only around base: on floor */
 		float base;
 		k->cbox[c] = pvs__box_empty();
 		for (t = k->tp.comp_first[c]; t < k->tp.comp_first[c + 1]; ++t) {
@@ -12514,13 +12484,13 @@ PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	return 1;
 }
 
-/* Most a walk climbs between neighbouring columns: step, or ramp or stairs at max_slope. */
+/* Most a walk climbs between neighbouring columns: step, or ramp/stairs at max_slope. */
 PVS__STATIC double pvs__walk_climb(const pvs__walk *k) {
 	return pvs__dmax(k->d.step_height, k->hs * tan((double)k->d.max_slope));
 }
 
-/* Links samples of neighbouring columns a climb apart whose knee-high segment is free (next[]); joins only those within
-   square (merge reads next[] across its sides). */
+/* Links samples of neighbouring columns a climb apart whose knee-high segment is free (next[]); only within square
+   (merge reads next[] across its sides). */
 PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent) {
 	double climb = pvs__walk_climb(k);
 	size_t a, b;
@@ -12572,8 +12542,8 @@ PVS__STATIC uint32_t pvs__walk_sample_of(const pvs__walk *k, const pvs__wgroup *
 	return PVS__WNONE;
 }
 
-/* 1 if rectangle b continues rectangle a across a's square side dirn (0: +u, 1: +v): same extent, every pair across
-   linked, heights within a step with [lo, hi]. */
+/* 1 if rectangle b continues a across a's square side dirn (0: +u, 1: +v): same extent, every pair across linked,
+   heights within a step with [lo, hi]. */
 PVS__STATIC int pvs__walk_joins(const pvs__walk *k, const pvs__wgroup *a, const pvs__wgroup *b, uint32_t dirn, float lo,
 								float hi) {
 	uint32_t i, n = dirn ? a->hi_u - a->lo_u + 1 : a->hi_v - a->lo_v + 1;
@@ -12600,8 +12570,8 @@ PVS__STATIC pvs__wgroup *pvs__walk_find(const pvs__walk *k, pvs__wgroup *g, cons
 	return NULL;
 }
 
-/* Emits box over columns [u0, u1] + spacing / 2, from 1/4 eye height over lo to eye height over hi, clipped to bounds
-   of view volumes met. */
+/* Emits box over columns [u0, u1] + spacing / 2, from 1/4 eye height over lo to eye height over hi, clipped to view
+   volumes met. */
 PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, uint32_t v0, uint32_t v1, float lo,
 								float hi, pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs_box b, in = pvs__box_empty();
@@ -12726,8 +12696,8 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 	return PVS_OK;
 }
 
-/* Breadth first from sample s0 (k->local[] zero; k->global: queue): walk climbs pvs__walk_climb knee to knee, or drops
-   any height (across at knee, then down). Marks k->local[] of those reached; returns count. */
+/* BFS from sample s0 (k->local[] zero; k->global: queue): walk climbs pvs__walk_climb knee to knee, or drops any height
+   (across at knee, then down). Marks k->local[] of those reached; returns count. */
 PVS__STATIC uint32_t pvs__walk_reach(pvs__walk *k, uint32_t s0) {
 	double climb = pvs__walk_climb(k);
 	uint32_t head = 0, tail = 0, d, b;
@@ -12857,20 +12827,16 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 /* ==== vocc: virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): aggregate umbrae grown from seeds along active
    supporting and separating lines (§3), 2.5D by height slices (§3.1), greedy selection (Fig. 6), 5 quantized bytes
    per occluder, PVS rebuilt on cell entry (§2, §4) ==== */
-/* 2D (§3): cell C: rectangle, occluders opaque segments. Segments closing ring with exactly equal ends form wall loop:
-   point inside (odd crossings) hidden from all outside, and segment crossing its hull outside-to-outside crosses loop,
-   so loop whose hull misses C is convex blocker (its hull) for points outside it. §3's objects: these hulls
-   (buildings), other segments. Conservative: x hidden iff every segment C-x meets blocker. Convex blocker disjoint from
-   C, not holding x, covers interval of C's fan from x, wholly before or behind C per ray (disjoint convex sets seen
-   from point keep order): one ray decides; x hidden if intervals before C cover fan (pvs__vo_hidden). Along line answer
-   changes only at object boundaries or common tangents through C of two objects (or object and C); hidden sets closed,
-   so point per interval between events finds hidden parts up to rounding (pvs__vo_line_hidden). Each virtual occluder
-   so checked after final rounding, against aggregate's blockers (subset). Growth (§3): seeds by subtended angle;
-   aggregate grows both sides along active supporting line P (outer tangent of C and aggregate) and separating polyline
-   Q (first inner tangent). Object B hit by active line: (1) meets umbra U (probe point of B hidden without B): joins U,
-   P and Q move to it, new occluder behind B or (3, found on Q) furthest one extends; (2) meets only Q: bends Q, joins
-   blockers so later objects fuse through it. New occluder dumps current one into dense set ("periodically dumped",
-   §3). */
+/* 2D (§3): cell C rectangle, occluders opaque segments. Wall loop: segments closing ring with exactly equal ends; its
+   hull, if missing C, blocks for points outside. §3's objects: these hulls, other segments. x hidden iff every segment
+   C-x meets blocker. Convex blocker disjoint from C and x covers interval of C's fan from x, wholly before or behind C
+   per ray: x hidden if intervals before C cover fan (pvs__vo_hidden). Along line answer changes only at object
+   boundaries or common tangents through C of two objects (or object and C): a point per interval between events finds
+   hidden parts up to rounding (pvs__vo_line_hidden); each virtual occluder so checked after final rounding. Growth
+   (§3): seeds by subtended angle; aggregate grows both sides along active supporting line P (outer tangent of C and
+   aggregate) and separating polyline Q (first inner tangent). Object B hit by active line: (1) meets umbra U (probe of
+   B hidden without B): joins U, P and Q move to it, new occluder behind B or (3, found on Q) furthest one extends; (2)
+   meets only Q: bends Q, joins blockers. New occluder dumps current one into dense set ("periodically dumped", §3). */
 
 #define PVS__VO_NONE 0xffffffffu
 #define PVS__VO_MAXH 64u /* max hull vertices of loop blocker */
@@ -12965,7 +12931,7 @@ PVS__STATIC void pvs__vo_bb_add(double *bb, const double *p) {
 	if (p[1] > bb[3]) bb[3] = p[1];
 }
 
-/* Convex hull (Andrew's monotone chain), ccw, no collinear points: size, point indices in idx; keys: n scratch. */
+/* Convex hull (Andrew's monotone chain), ccw, no collinear points: size, indices in idx; keys: n scratch. */
 PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index *keys, uint32_t *idx) {
 	uint32_t i, k = 0, t;
 	for (i = 0; i < n; ++i) { keys[i].key = pts[2 * i]; keys[i].index = i; }
@@ -13000,7 +12966,7 @@ typedef struct pvs__vprep_scratch {
 	uint32_t nv; /* distinct vertices */
 } pvs__vprep_scratch;
 
-/* Vertex ids (p->seg_vid): ends sorted by (x, y), equal points one id; sets w->nv. */
+/* Vertex ids (p->seg_vid): ends sorted by (x, y), one id per point; sets w->nv. */
 PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
 	pvs__key_index *keys = w->keys;
 	uint32_t m = p->nseg, i, nv = 0;
@@ -13081,7 +13047,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 		}
 		hn = pvs__vo_hull(p->ring_pt + 2 * ring, count, w->keys, hidx);
 		p->hull_start[l] = h;
-		/* ring point q starts segment q: id of vertex shared with segment q - 1 */
+		/* ring point q starts segment q: vertex shared with segment q - 1 */
 		for (k = 0; k < hn; ++k) {
 			uint32_t q = hidx[k], sq = p->ring_seg[ring + q], sp = p->ring_seg[ring + (q + count - 1) % count];
 			uint32_t a0 = p->seg_vid[2 * sq], a1 = p->seg_vid[2 * sq + 1];
@@ -13096,7 +13062,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 	}
 }
 
-/* §3's objects (Koltun 2000): loops with 3..PVS__VO_MAXH hull vertices, then segments of no such loop; box, top. */
+/* §3's objects (Koltun 2000): loops with 3..PVS__VO_MAXH hull vertices, then other segments; box, top. */
 PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
 	uint32_t i;
 	p->nobj = 0;
@@ -13157,7 +13123,7 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 			if (x1 >= p->gw) x1 = p->gw - 1;
 			if (y1 >= p->gh) y1 = p->gh - 1;
 			if (p->obj_ref[i] >= p->nloop && (uint64_t)(x1 - x0 + 1) * (y1 - y0 + 1) > 16) {
-				/* long wall: buckets along it 1/4 apart (one missed hides it from search, not a check) */
+				/* long wall: buckets along it 1/4 apart (a miss hides it from search, not a check) */
 				const double *sg = p->seg + 4 * (size_t)(p->obj_ref[i] - p->nloop);
 				double len = sqrt((sg[2] - sg[0]) * (sg[2] - sg[0]) + (sg[3] - sg[1]) * (sg[3] - sg[1]));
 				uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
@@ -13394,7 +13360,7 @@ PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs_
 	return 1;
 }
 
-/* Least t in [0, tmax] where ray x + t w enters cell grown by g, -1 on miss (slabs). */
+/* Least t in [0, tmax] where ray x + t w enters cell grown by g, -1 on miss. */
 PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const double *w, double g, double tmax) {
 	double s0 = 0.0, s1 = tmax;
 	int k;
@@ -13471,7 +13437,7 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
 	return c->nobj++;
 }
 
-/* Wall s as blocker if it reaches h and misses cell grown by tol. */
+/* Wall s as blocker if it reaches h, misses cell grown by tol. */
 PVS__STATIC void pvs__vo_add_seg(pvs__vctx *c, uint32_t s, float h) {
 	const pvs__vprep *p = c->p;
 	double a[2], d[2];
@@ -13585,8 +13551,8 @@ PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const d
 	return 1;
 }
 
-/* Cell's fan from x: extreme corners cl, ch (in half-plane), unit bisector f, edge pseudo-angles aL, aR about f, box of
-   cell and x grown by tol. */
+/* Cell's fan from x: extreme corners cl, ch, unit bisector f, edge pseudo-angles aL, aR about f, box of cell and x
+   grown by tol. */
 typedef struct pvs__vo_fan {
 	const double *cl, *ch;
 	double f[2], aL, aR, bb[4];
@@ -13688,8 +13654,8 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 	return 0;
 }
 
-/* 1 if c->span[0..ns) (sorted here) covers fan [aL, aR]. Spans ending on one vertex join exactly (open chain walls),
-   others need overlap > PVS__VO_ATOL: rounding only says "not hidden". */
+/* 1 if c->span[0..ns) (sorted here) covers fan [aL, aR]. Spans ending on one vertex join exactly, others need overlap >
+   PVS__VO_ATOL: rounding only says "not hidden". */
 PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double aR) {
 	double reach;
 	uint32_t i, k, rid;
@@ -13749,7 +13715,7 @@ PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x
 	}
 }
 
-/* Common tangents through cell of convex sets a, b (only they change answers); need_cell 0: a is cell. */
+/* Common tangents through cell of convex sets a, b; need_cell 0: a is cell. */
 PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t na, const double *b, uint32_t nb,
 									   int need_cell) {
 	uint32_t i, j;
@@ -14011,8 +13977,8 @@ PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
 	return n;
 }
 
-/* Active lines of fused objects: supporting ones bridge hull of cell and aggregate, separating ones inner common
-   tangents; side 0: left seen from cell; bit s of `which` resets side s's separating line. 0: cell inside it. */
+/* Active lines of fused objects: supporting ones bridge hull of cell and aggregate, separating: inner common tangents;
+   side 0: left seen from cell; bit s of `which` resets side s's separating line. 0: cell inside it. */
 PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	uint32_t n = pvs__vo_k_points(c, 1), hn, i, found = 0, s;
 	if (!n) return 0;
@@ -14030,7 +13996,7 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 		}
 	}
 	if (found != 3u) return 0;
-	/* inner tangents: cell corner to aggregate hull vertex, cell on one side, aggregate on other */
+	/* inner tangents: cell corner to aggregate hull vertex, cell, aggregate on opposite sides */
 	n = pvs__vo_k_points(c, 0);
 	hn = pvs__vo_hull(c->pts, n, c->hkeys, c->hidx);
 	for (s = 0; s < 2; ++s) {
@@ -14059,7 +14025,7 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	return 1;
 }
 
-/* Case 2: side s's separating polyline bends to b's vertex, all of b on aggregate's side. */
+/* Case 2: side s's separating polyline bends to b's vertex, b on aggregate's side. */
 PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32_t b) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first, *q = sd->qo;
@@ -14082,7 +14048,7 @@ PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32
 	}
 }
 
-/* 1 if probe of b (vertices, edge midpoints, extra) hidden by aggregate sans b: b meets umbra (cases 1, 3). */
+/* 1 if probe of b (vertices, edge midpoints, extra) hidden by aggregate sans b (cases 1, 3). */
 PVS__STATIC int pvs__vo_meets_umbra(pvs__vctx *c, uint32_t b, const double *extra, int nextra) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first;
@@ -14151,7 +14117,7 @@ PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const 
 	return best;
 }
 
-/* Virtual occluder behind b (§3): widest hidden interval on 3 lines just beyond b: across umbra (normal to supporting
+/* Virtual occluder behind b (§3): widest hidden interval on 3 lines just past b: across umbra (normal to supporting
    lines' bisector), silhouette chord through their contacts, across b's view from cell centre. keep (case 3): current
    line, interval around its middle. */
 PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, pvs__vo_cur *cur, int keep) {
@@ -14250,8 +14216,8 @@ PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
 	return code;
 }
 
-/* Rounds occluder a-b (cell frame) to stored bytes, shrinking it, moving ends away from cell ("toward smaller
-   occluders", §4), then checks exactly; 6 tries, shrinking more each. 1 with *out filled. */
+/* Rounds occluder a-b (cell frame) to stored bytes, shrinking it, ends away from cell ("toward smaller occluders",
+   §4), then checks exactly; 6 tries, shrinking more each. 1 with *out filled. */
 #ifndef PVS_RUNTIME_ONLY
 PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b0, pvs__vo_cand *out) {
 	static const double shrink[6] = {0.0, 0.03, 0.08, 0.15, 0.25, 0.38};
@@ -14394,7 +14360,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 				hitp[1] = sd[s].po[1] + sp * sd[s].pd[1];
 				on_q = t >= 0.0;
 			}
-			{ /* probes: hit point pushed slightly toward umbra along ray */
+			{ /* probes: hit point nudged toward umbra along ray */
 				double nx = s ? sd[s].pd[1] : -sd[s].pd[1], ny = s ? -sd[s].pd[0] : sd[s].pd[0];
 				double sz = 0.02 * ((c->obj[b].bb[2] - c->obj[b].bb[0]) + (c->obj[b].bb[3] - c->obj[b].bb[1])) + c->tol;
 				const double *rd = via_q ? sd[s].qd : sd[s].pd;
@@ -14500,9 +14466,9 @@ typedef struct pvs__vo_rt {
 	int u_axis, v_axis, up, ok;
 } pvs__vo_rt;
 
-/* Occluder a-b's test (world ground, heights base..top) for cell. In 2D box in umbra (§3) if beyond line and, per cell
-   corner c, on b's side of line c-a and a's of c-b. Convex: corners decide; support functions test box at once. Margins
-   (1e-7 of frame extent) make rounding answer "not hidden". */
+/* Occluder a-b's test (world ground, heights base..top) for cell. 2D: box in umbra (§3) if beyond line and, per cell
+   corner c, on b's side of line c-a and a's of c-b; support functions test box. Margins (1e-7 of frame extent) make
+   rounding answer "not hidden". */
 PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b,
 								 double base, double top) {
 	double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
@@ -14605,7 +14571,7 @@ PVS__STATIC int pvs__vo_box_ok(const pvs_box *b) {
 	return 1;
 }
 
-/* r from caller's occluder; 0 (r unusable) if ends not finite. */
+/* r from caller's occluder; 0 (unusable) if ends not finite. */
 PVS__STATIC int pvs__vo_rt_user(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const pvs_virtual_occluder *o) {
 	double a[2], b[2];
 	a[0] = o->p0[0]; a[1] = o->p0[1];
@@ -14787,7 +14753,7 @@ PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, f
 	}
 }
 
-/* Validates VOCC section of f->cell_count cells (pvs_file_open, after META) into *f; linear, reads only inside it. */
+/* Validates VOCC section of f->cell_count cells (pvs_file_open, after META) into *f; reads only inside it. */
 PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, const uint8_t *sec, uint32_t size,
 											pvs_error *err) {
 	uint64_t so = (uint64_t)(sec - file);
@@ -15033,8 +14999,8 @@ done:
 	return PVS_OK;
 }
 
-/* Slice heights (§3.1): occluder tops above cell at quantiles (i + 0.2) / (n + 0.2) by subtended angle (near walls
-   count more; n = 1: 1/6). Low slices fuse best, high ones hide what is behind low walls. Ascending, distinct, <= n. */
+/* Slice heights (§3.1): occluder tops above cell at quantiles (i + 0.2) / (n + 0.2) by subtended angle (n = 1: 1/6).
+   Low slices fuse best, high ones hide past low walls. Ascending, distinct, <= n. */
 PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *centre, float ctop, uint32_t n, float *h,
 										   const pvs_allocator *al) {
 	const pvs__vprep *p = vb->prep;
@@ -15090,8 +15056,8 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
 	return out;
 }
 
-/* One cell's dense set (Koltun 2000 §3, §3.1) in c->out: its slices' virtual occluders, file frame. c untouched if it
-   can have none (below base, no area, no occluder). Caller frees c. */
+/* One cell's dense set (Koltun 2000 §3, §3.1) in c->out: its slices' virtual occluders, file frame. c untouched if
+   none possible (below base, no area, no occluder). Caller frees c. */
 PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *cell, const double centre[2],
 										 double reach, uint32_t code, pvs__vctx *c) {
 	const pvs_allocator *al = &vb->a;
@@ -15125,8 +15091,8 @@ typedef struct pvs__vo_selwork {
 	pvs_word *hid, *covered; /* c->nout x words: what each hides; words: hidden so far */
 } pvs__vo_selwork;
 
-/* Greedy selection (Koltun 2000, Fig. 6) from c->out: occluder hiding most not-yet-hidden objects, until max_keep kept
-   or best gain < min_gain; 5 bytes each into bytes, tests into sw->sel; count. *r = OUT_OF_MEMORY: no scratch. */
+/* Greedy selection (Koltun 2000, Fig. 6) from c->out: occluder hiding most unhidden objects, until max_keep kept or
+   best gain < min_gain; 5 bytes each into bytes, tests into sw->sel; count. *r = OUT_OF_MEMORY: no scratch. */
 PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c,
 									uint32_t words, uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
 	const pvs_allocator *al = &vb->a;
@@ -15388,7 +15354,7 @@ PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
 	pvs__free(&vo->allocator, vo, sizeof(*vo), 16);
 }
 
-/* Not in AUTO unless named (pvs_bake_desc.methods): for storage and run-time rebuild, not tightness. */
+/* Not in AUTO unless named (pvs_bake_desc.methods): for storage, run-time rebuild, not tightness. */
 PVS__STATIC const pvs__bake_method pvs__vocc_method = {
 	PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, 2, pvs__vocc_bake_check,
 	pvs__vocc_bake_prepare, pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy,
