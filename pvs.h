@@ -4653,6 +4653,7 @@ typedef struct pvs__qtri {
 
 #define PVS__STRIDE(d) ((d)->stride ? (d)->stride / 4 : 3)
 #define PVS__QFIRST(n, p) ((uint32_t)((uint64_t)(n) * (p) / PVS_RASTER_PARTS))
+typedef char pvs__qmask_holds_bands[PVS_RASTER_PARTS == 8 ? 1 : -1]; /* a band per bit of pvs_raster.qmask */
 #define PVS__QBAND(r, b) ((int32_t)((b) * (r)->bh / PVS_RASTER_PARTS) << PVS__BLOCK_SHIFT) /* 1st tile row */
 
 /* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene triangles tris) through prefilter, 8 at once (AVX2
