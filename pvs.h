@@ -4106,7 +4106,7 @@ PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t 
    else layer takes union at farther depth, or T if T leads it by more than it leads base; full layer becomes base. Each
    pixel stays lower bound of nearest occluder. Off map: rows with bit set in `rows`, bits `xpad` (array's narrow stores
    stalled wide loads: tests/BENCHMARKS.md, raster). */
-PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, uint32_t rows, uint32_t xpad) {
+PVS__STATIC inline void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, uint32_t rows, uint32_t xpad) {
 	uint32_t full = ~0u, any = 0, m;
 	int k;
 	for (k = 0; k < PVS__TH; ++k) {
