@@ -3546,6 +3546,7 @@ typedef struct pvs__buf {
 	size_t n, size;
 } pvs__buf;
 #define PVS__BUF(b, k, ptr, count, elem) ((b)[k].p = (void **)&(ptr), (b)[k].n = (count), (b)[k].size = (elem), ++(k))
+#define PVS__BUFT(b, k, ptr, count) PVS__BUF(b, k, ptr, count, sizeof(*(ptr)))
 PVS__STATIC int pvs__bufs_alloc(const pvs_allocator *a, const pvs__buf *b, int k) {
 	int i, ok = 1;
 	for (i = 0; i < k; ++i) ok &= (*b[i].p = pvs__alloc_array(a, b[i].n, b[i].size)) != NULL;
@@ -18137,54 +18138,43 @@ typedef struct pvs__epprepwork {
 	size_t cap; /* triangles */
 } pvs__epprepwork;
 
+/* Preparation scratch's buffers (pvs__buf) for w->cap triangles. */
+PVS__STATIC int pvs__ep_work_bufs(pvs__epprepwork *w, pvs__buf *b) {
+	int k = 0;
+	size_t n = w->cap, c = 3 * n, q = 2 * (c + 1);
+	PVS__BUFT(b, k, w->ref, c);
+	PVS__BUFT(b, k, w->canon, c);
+	PVS__BUFT(b, k, w->vpos, c);
+	PVS__BUFT(b, k, w->owner, c);
+	PVS__BUFT(b, k, w->parent, n);
+	PVS__BUFT(b, k, w->order, n);
+	PVS__BUFT(b, k, w->start, n + 1);
+	PVS__BUFT(b, k, w->edges, c);
+	PVS__BUFT(b, k, w->mark, c);
+	PVS__BUFT(b, k, w->uv, c);
+	PVS__BUFT(b, k, w->e2, c);
+	PVS__BUFT(b, k, w->q2, q);
+	PVS__BUFT(b, k, w->keep, c + 1);
+	PVS__BUFT(b, k, w->ends, 2 * c);
+	PVS__BUFT(b, k, w->gparent, n);
+	PVS__BUFT(b, k, w->used, n);
+	PVS__BUFT(b, k, w->hp, q);
+	PVS__BUFT(b, k, w->hh, q);
+	PVS__BUFT(b, k, w->bed, c);
+	return k;
+}
+
 PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
-	size_t n = w->cap;
-	PVS__FREE_N(a, w->ref, 3 * n);
-	PVS__FREE_N(a, w->canon, 3 * n);
-	pvs__free_array(a, (void *)w->vpos, 3 * n, sizeof(const float *));
-	PVS__FREE_N(a, w->owner, 3 * n);
-	PVS__FREE_N(a, w->parent, n);
-	PVS__FREE_N(a, w->order, n);
-	PVS__FREE_N(a, w->start, n + 1);
-	PVS__FREE_N(a, w->edges, 3 * n);
-	PVS__FREE_N(a, w->mark, 3 * n);
-	PVS__FREE_N(a, w->uv, 3 * n);
-	PVS__FREE_N(a, w->e2, 3 * n);
-	PVS__FREE_N(a, w->ends, 6 * n);
-	PVS__FREE_N(a, w->q2, 2 * (3 * n + 1));
-	PVS__FREE_N(a, w->keep, 3 * n + 1);
-	PVS__FREE_N(a, w->gparent, n);
-	PVS__FREE_N(a, w->used, n);
-	PVS__FREE_N(a, w->hp, 2 * (3 * n + 1));
-	PVS__FREE_N(a, w->hh, 2 * (3 * n + 1));
-	PVS__FREE_N(a, w->bed, 3 * n);
+	pvs__buf b[19];
+	pvs__bufs_free(a, b, pvs__ep_work_bufs(w, b));
 	PVS__ZERO(*w);
 }
 
 PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, size_t n) {
+	pvs__buf b[19];
 	PVS__ZERO(*w);
 	w->cap = n;
-	w->ref = PVS__ALLOC_N(a, pvs__vx_vkey, 3 * n);
-	w->canon = PVS__ALLOC_N(a, uint32_t, 3 * n);
-	w->vpos = (const float **)pvs__alloc_array(a, 3 * n, sizeof(const float *));
-	w->owner = PVS__ALLOC_N(a, uint32_t, 3 * n);
-	w->parent = PVS__ALLOC_N(a, uint32_t, n);
-	w->order = PVS__ALLOC_N(a, uint32_t, n);
-	w->start = PVS__ALLOC_N(a, uint32_t, n + 1);
-	w->edges = PVS__ALLOC_N(a, uint64_t, 3 * n);
-	w->mark = PVS__ALLOC_N(a, uint32_t, 3 * n);
-	w->uv = PVS__ALLOC_N(a, uint32_t, 3 * n);
-	w->e2 = PVS__ALLOC_N(a, pvs__epedge2, 3 * n);
-	w->q2 = PVS__ALLOC_N(a, float, 2 * (3 * n + 1));
-	w->keep = PVS__ALLOC_N(a, unsigned char, 3 * n + 1);
-	w->ends = PVS__ALLOC_N(a, pvs__epend, 6 * n);
-	w->gparent = PVS__ALLOC_N(a, uint32_t, n);
-	w->used = PVS__ALLOC_N(a, unsigned char, n);
-	w->hp = PVS__ALLOC_N(a, double, 2 * (3 * n + 1));
-	w->hh = PVS__ALLOC_N(a, double, 2 * (3 * n + 1));
-	w->bed = PVS__ALLOC_N(a, uint64_t, 3 * n);
-	return w->hp && w->hh && w->bed && w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start &&
-		w->edges && w->mark && w->uv && w->e2 && w->q2 && w->keep && w->ends && w->gparent && w->used;
+	return pvs__bufs_alloc(a, b, pvs__ep_work_bufs(w, b));
 }
 
 /* 1 if component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each triangle's plane to float precision;
