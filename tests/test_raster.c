@@ -365,14 +365,16 @@ static int check_mesh(pvs_raster *r, const float mat[16], const tmesh *m, uint32
     return bad;
 }
 
-static void test_mesh(int scale) {
+/* On W x H maps: 23 x 17 (the row pass's small triangles), and 61 x 45 tiled, where triangles over 32 pixels across
+   take the fast pass (pvs__mesh_edge, pvs__mesh_fan), fewer meshes (each checks 7 times the pixels). */
+static void test_mesh(int scale, uint32_t W, uint32_t H, int n) {
     pvs_raster_desc rd;
     pvs_raster *r, *rs, *rp;
     pvs_error e;
     static tmesh m;
     static float soup[9 * MESH_MAXT];
-    int t, n = (getenv("MESHN") ? atoi(getenv("MESHN")) : 60) * scale, bad = 0, same = 1, superset = 1;
-    uint32_t claimed = 0, quad_full = 0, quad_claimed = 0, quad_tri = 0, W = 23, H = 17;
+    int t, bad = 0, same = 1, superset = 1;
+    uint32_t claimed = 0, quad_full = 0, quad_claimed = 0, quad_tri = 0;
     memset(&rd, 0, sizeof(rd));
     rd.width = W; rd.height = H; rd.flags = mode_flag;
     rd.max_mesh_triangles = 200; /* bigger meshes go in pieces */
@@ -437,8 +439,8 @@ static void test_mesh(int scale) {
     /* a quad split into 2..64 triangles claims (nearly) every pixel the quad covers whole, far more
        than its triangles one at a time */
     CHECK(quad_claimed * 100 >= quad_full * 90);
-    if (scale == 1) fprintf(stderr, "  mesh (%s): quads cover %u pixels whole, mesh claims %u, triangles alone %u\n",
-                            mode_flag == PVS_RASTER_TILED ? "tiled" : "per pixel", quad_full, quad_claimed, quad_tri);
+    if (scale == 1) fprintf(stderr, "  mesh (%s, %u x %u): quads cover %u pixels whole, mesh claims %u, triangles alone %u\n",
+                            mode_flag == PVS_RASTER_TILED ? "tiled" : "per pixel", W, H, quad_full, quad_claimed, quad_tri);
     /* errors */
     CHECK(pvs_raster_mesh(NULL, m.pos, 3, NULL, 1) == PVS_ERROR_INVALID_ARGUMENT);
     CHECK(pvs_raster_mesh(r, NULL, 3, NULL, 1) == PVS_ERROR_INVALID_ARGUMENT);
@@ -446,6 +448,51 @@ static void test_mesh(int scale) {
     pvs_raster_destroy(r);
     pvs_raster_destroy(rs);
     pvs_raster_destroy(rp);
+}
+
+/* The fast pass on its own (tiled; triangles over 32 pixels across): random fans, closed or open, of 3 to 9
+   triangles with a vertex depth each (folds along every edge), in clip space on a 64 x 64 map; every claimed pixel
+   checked against the union (check_mesh). */
+static void test_mesh_fast(int scale) {
+    pvs_raster_desc rd;
+    pvs_raster *r;
+    pvs_error e;
+    static tmesh m;
+    static const float id[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    int t, bad = 0, n = 120 * scale;
+    uint32_t claimed = 0, full = 0, i, alone = 0, w, h;
+    memset(&rd, 0, sizeof(rd));
+    rd.width = rd.height = 64; rd.flags = PVS_RASTER_TILED;
+    CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
+    for (t = 0; t < n; ++t) {
+        uint32_t rim = 3 + (uint32_t)(rnd() * 7), closed = rnd() < 0.7, c0 = 0;
+        float a = rndf(0, 6.2831853f), cx = rndf(-0.3f, 0.3f), cy = rndf(-0.3f, 0.3f);
+        const float *d;
+        m.pos[0] = cx; m.pos[1] = cy; m.pos[2] = rndf(0.1f, 0.9f);
+        for (i = 0; i < rim; ++i) { /* angles increasing: counter-clockwise, gaps up to 170 degrees */
+            float rad = rndf(0.3f, 0.95f);
+            a += (closed ? 6.2831853f / (float)rim : 3.0f / (float)rim) * rndf(0.4f, 1.6f);
+            m.pos[3 * (i + 1)] = cx + rad * cosf(a); m.pos[3 * (i + 1) + 1] = cy + rad * sinf(a);
+            m.pos[3 * (i + 1) + 2] = rndf(0.1f, 0.9f);
+        }
+        m.nv = rim + 1; m.nt = 0; m.planar_quad = 0;
+        for (i = 0; i < rim - (closed ? 0 : 1); ++i) {
+            m.idx[3 * m.nt] = 0; m.idx[3 * m.nt + 1] = 1 + i; m.idx[3 * m.nt + 2] = 1 + (i + 1) % rim;
+            ++m.nt;
+        }
+        pvs_raster_clear(r); pvs_raster_set_matrix(r, id);
+        pvs_raster_triangles(r, m.pos, m.nv, m.idx, m.nt, PVS_RASTER_OCCLUDER);
+        d = pvs_raster_depth(r, &w, &h);
+        for (i = 0; i < w * h; ++i) alone += d[i] != PVS_DEPTH_EMPTY;
+        pvs_raster_clear(r); pvs_raster_set_matrix(r, id);
+        CHECK(pvs_raster_mesh(r, m.pos, m.nv, m.idx, m.nt) == PVS_OK);
+        bad += check_mesh(r, id, &m, &c0, &full);
+        claimed += c0;
+    }
+    CHECK(bad == 0);
+    CHECK(claimed > alone + alone / 20); /* the edges' and fans' pixels */
+    if (scale == 1) fprintf(stderr, "  mesh fast pass: %d fans, %u pixels claimed, triangles alone %u\n", n, claimed, alone);
+    pvs_raster_destroy(r);
 }
 
 /* SIMD and scalar give identical depth maps; many triangles on one map. Per pixel, the map is the
@@ -1369,11 +1416,12 @@ void raster_verify_coverage(int scale);
 void raster_verify_coverage(int scale) { test_coverage(scale); }
 void raster_verify(int scale);
 void raster_verify(int scale) {
-    int k;
+    int k, n = (getenv("MESHN") ? atoi(getenv("MESHN")) : 60) * scale;
     for (k = 0; k < 2; ++k) {
         mode_flag = k ? PVS_RASTER_TILED : PVS_RASTER_PER_PIXEL;
         test_coverage(scale);
-        test_mesh(scale);
+        test_mesh(scale, 23, 17, n);
+        if (k) test_mesh(scale, 61, 45, n / 4), test_mesh_fast(scale);
         test_simd_identical(scale);
         test_boxes(scale);
         test_pyramid(scale);
