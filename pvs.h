@@ -24466,7 +24466,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.11.9 (2026-11-30) raster: pvs_raster_mesh's fast pass (edges, closed fans as polygons): mesh frame 2.15 -> 1.36x.
+   0.11.9 (2026-11-30) raster: pvs_raster_mesh's fast pass (edges, closed fans as polygons): mesh frame 2.15 -> 1.4x.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.
