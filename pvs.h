@@ -1700,9 +1700,12 @@ PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capa
 	*capacity = cap;
 	return q;
 }
-PVS__STATIC void *pvs__grow_array(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
-								  size_t elem, pvs_result *r) {
-	return pvs__grow_capped(a, p, capacity, used, need, 0, elem, r);
+/* Grows *p so, in place: 0 (*r set) if it fails, *p then unchanged (the caller's to free). */
+PVS__STATIC int pvs__grow_array(const pvs_allocator *a, void **p, size_t *capacity, size_t used, size_t need,
+								size_t elem, pvs_result *r) {
+	void *q = pvs__grow_capped(a, *p, capacity, used, need, 0, elem, r);
+	if (q) *p = q;
+	return q != NULL;
 }
 /* Same, fully used array (*p, *capacity elements): 1 if it holds `need`, else 0 (*p unchanged). */
 PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, size_t need, size_t elem) {
@@ -13051,28 +13054,35 @@ typedef struct pvs__vprep {
 	size_t gitems;
 } pvs__vprep;
 
+/* vprep's buffers (pvs__buf) for p->nseg segments; the last 2, the grid's, made by pvs__vprep_grid. */
+PVS__STATIC int pvs__vprep_bufs(pvs__vprep *p, pvs__buf *b) {
+	int k = 0;
+	size_t m = p->nseg;
+	PVS__BUFT(b, k, p->seg, 4 * m + 4);
+	PVS__BUFT(b, k, p->seg_top, m + 1);
+	PVS__BUFT(b, k, p->seg_vid, 2 * m + 2);
+	PVS__BUFT(b, k, p->seg_loop, m + 1);
+	PVS__BUFT(b, k, p->loop_start, m + 2);
+	PVS__BUFT(b, k, p->ring_seg, m + 1);
+	PVS__BUFT(b, k, p->ring_pt, 2 * m + 2);
+	PVS__BUFT(b, k, p->hull_start, m + 2);
+	PVS__BUFT(b, k, p->hull_pt, 2 * m + 2);
+	PVS__BUFT(b, k, p->hull_vid, m + 1);
+	PVS__BUFT(b, k, p->loop_top, m + 1);
+	PVS__BUFT(b, k, p->loop_bb, 4 * m + 4);
+	PVS__BUFT(b, k, p->obj_ref, m + 1);
+	PVS__BUFT(b, k, p->obj_bb, 4 * m + 4);
+	PVS__BUFT(b, k, p->obj_top, m + 1);
+	PVS__BUFT(b, k, p->gstart, (size_t)p->gw * p->gh + 1);
+	PVS__BUFT(b, k, p->gitem, p->gitems + 1);
+	return k;
+}
+
 PVS__STATIC void pvs__vprep_destroy(pvs__vprep *p) {
-	const pvs_allocator *a;
+	pvs__buf b[17];
 	if (!p) return;
-	a = &p->a;
-	PVS__FREE_N(a, p->seg, 4 * (size_t)p->nseg + 4);
-	PVS__FREE_N(a, p->seg_top, (size_t)p->nseg + 1);
-	PVS__FREE_N(a, p->seg_vid, 2 * (size_t)p->nseg + 2);
-	PVS__FREE_N(a, p->seg_loop, (size_t)p->nseg + 1);
-	PVS__FREE_N(a, p->loop_start, (size_t)p->nseg + 2);
-	PVS__FREE_N(a, p->ring_seg, (size_t)p->nseg + 1);
-	PVS__FREE_N(a, p->ring_pt, 2 * (size_t)p->nseg + 2);
-	PVS__FREE_N(a, p->hull_start, (size_t)p->nseg + 2);
-	PVS__FREE_N(a, p->hull_pt, 2 * (size_t)p->nseg + 2);
-	PVS__FREE_N(a, p->hull_vid, (size_t)p->nseg + 1);
-	PVS__FREE_N(a, p->loop_top, (size_t)p->nseg + 1);
-	PVS__FREE_N(a, p->loop_bb, 4 * (size_t)p->nseg + 4);
-	PVS__FREE_N(a, p->obj_ref, (size_t)p->nseg + 1);
-	PVS__FREE_N(a, p->obj_bb, 4 * (size_t)p->nseg + 4);
-	PVS__FREE_N(a, p->obj_top, (size_t)p->nseg + 1);
-	PVS__FREE_N(a, p->gstart, (size_t)p->gw * p->gh + 1);
-	PVS__FREE_N(a, p->gitem, p->gitems + 1);
-	pvs__free(a, p, sizeof(*p), 16);
+	pvs__bufs_free(&p->a, b, pvs__vprep_bufs(p, b));
+	pvs__free(&p->a, p, sizeof(*p), 16);
 }
 
 PVS__STATIC void pvs__vo_bb_add(double *bb, const double *p) {
@@ -13290,7 +13300,9 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
 										 pvs__vprep **out) {
 	pvs__vprep *p;
 	pvs__vprep_scratch w;
+	pvs__buf b[17], wb[6];
 	uint32_t i, m = 0;
+	int k = 0;
 	pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
 	*out = NULL;
 	p = (pvs__vprep *)pvs__alloc(al, sizeof(pvs__vprep), 16);
@@ -13300,31 +13312,13 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
 	p->a = *al;
 	for (i = 0; i < n; ++i) m += !(seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]);
 	p->nseg = m;
-	p->seg = PVS__ALLOC_N(al, double, 4 * (size_t)m + 4);
-	p->seg_top = PVS__ALLOC_N(al, float, (size_t)m + 1);
-	p->seg_vid = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)m + 2);
-	p->seg_loop = PVS__ALLOC_N(al, int32_t, (size_t)m + 1);
-	p->loop_start = PVS__ALLOC_N(al, uint32_t, (size_t)m + 2);
-	p->ring_seg = PVS__ALLOC_N(al, uint32_t, (size_t)m + 1);
-	p->ring_pt = PVS__ALLOC_N(al, double, 2 * (size_t)m + 2);
-	p->hull_start = PVS__ALLOC_N(al, uint32_t, (size_t)m + 2);
-	p->hull_pt = PVS__ALLOC_N(al, double, 2 * (size_t)m + 2);
-	p->hull_vid = PVS__ALLOC_N(al, uint32_t, (size_t)m + 1);
-	p->loop_top = PVS__ALLOC_N(al, float, (size_t)m + 1);
-	p->loop_bb = PVS__ALLOC_N(al, double, 4 * (size_t)m + 4);
-	p->obj_ref = PVS__ALLOC_N(al, uint32_t, (size_t)m + 1);
-	p->obj_bb = PVS__ALLOC_N(al, double, 4 * (size_t)m + 4);
-	p->obj_top = PVS__ALLOC_N(al, float, (size_t)m + 1);
-	w.keys = PVS__ALLOC_N(al, pvs__key_index, 2 * (size_t)m + 2);
-	w.deg = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)m + 2);
-	w.adj = PVS__ALLOC_N(al, uint32_t, 4 * (size_t)m + 4);
-	w.uf = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)m + 2);
-	w.idx = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)m + 2);
-	w.hidx = PVS__ALLOC_N(al, uint32_t, 2 * (size_t)m + 2);
-	if (!p->seg || !p->seg_top || !p->seg_vid || !p->seg_loop || !p->loop_start || !p->ring_seg || !p->ring_pt ||
-		!p->hull_start || !p->hull_pt || !p->hull_vid || !p->loop_top || !p->loop_bb || !p->obj_ref || !p->obj_bb ||
-		!p->obj_top || !w.keys || !w.deg || !w.adj || !w.uf || !w.idx || !w.hidx)
-		goto done;
+	PVS__BUFT(wb, k, w.keys, 2 * (size_t)m + 2);
+	PVS__BUFT(wb, k, w.deg, 2 * (size_t)m + 2);
+	PVS__BUFT(wb, k, w.adj, 4 * (size_t)m + 4);
+	PVS__BUFT(wb, k, w.uf, 2 * (size_t)m + 2);
+	PVS__BUFT(wb, k, w.idx, 2 * (size_t)m + 2);
+	PVS__BUFT(wb, k, w.hidx, 2 * (size_t)m + 2);
+	if (!(pvs__bufs_alloc(al, b, pvs__vprep_bufs(p, b) - 2) & pvs__bufs_alloc(al, wb, k))) goto done;
 	for (i = 0, m = 0; i < n; ++i) {
 		if (seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]) continue;
 		memcpy(p->seg + 4 * (size_t)m, seg + 4 * (size_t)i, 4 * sizeof(double));
@@ -13336,12 +13330,7 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
 	pvs__vprep_objects(p);
 	r = pvs__vprep_grid(p, al);
 done:
-	PVS__FREE_N(al, w.keys, 2 * (size_t)m + 2);
-	PVS__FREE_N(al, w.deg, 2 * (size_t)m + 2);
-	PVS__FREE_N(al, w.adj, 4 * (size_t)m + 4);
-	PVS__FREE_N(al, w.uf, 2 * (size_t)m + 2);
-	PVS__FREE_N(al, w.idx, 2 * (size_t)m + 2);
-	PVS__FREE_N(al, w.hidx, 2 * (size_t)m + 2);
+	pvs__bufs_free(al, wb, k);
 	if (r != PVS_OK) {
 		p->nseg = m; /* sizes for frees */
 		pvs__vprep_destroy(p);
@@ -18332,9 +18321,9 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 		if (!hit) return PVS_OK;
 		q3[nh++] = hit;
 	}
-	p->cedge = (float *)pvs__grow_array(&p->allocator, p->cedge, &p->cedge_capacity, p->cedge_count,
-										p->cedge_count + nb, 6 * sizeof(float), &r);
-	if (!p->cedge) return r;
+	if (!pvs__grow_array(&p->allocator, (void **)&p->cedge, &p->cedge_capacity, p->cedge_count, p->cedge_count + nb,
+							6 * sizeof(float), &r))
+		return r;
 	o = p->occ + p->occ_count;
 	pvs__ep_add(p, q3, nh, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
 	o->efirst = (uint32_t)p->cedge_count;
@@ -18602,16 +18591,16 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 	pvs__epslice *sl;
 	pvs_result r = PVS_OK;
 	uint32_t j, k;
-	p->slc = (pvs__epslice *)pvs__grow_array(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1,
-											 sizeof(pvs__epslice), &r);
-	if (!p->slc) return r;
-	p->stri = (uint32_t *)pvs__grow_array(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + n,
-										  sizeof(uint32_t), &r);
-	if (!p->stri) return r;
+	if (!pvs__grow_array(a, (void **)&p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice),
+							&r))
+		return r;
+	if (!pvs__grow_array(a, (void **)&p->stri, &p->stri_capacity, p->stri_count, p->stri_count + n, sizeof(uint32_t),
+							&r))
+		return r;
 	if (capped) {
-		p->bedge = (float *)pvs__grow_array(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb,
-											6 * sizeof(float), &r);
-		if (!p->bedge) return r;
+		if (!pvs__grow_array(a, (void **)&p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb,
+								6 * sizeof(float), &r))
+			return r;
 	}
 	sl = p->slc + p->slc_count++;
 	PVS__ZERO(*sl);
@@ -18784,9 +18773,9 @@ PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float 
 			if (p->sheet[x].area < p->sheet[slot].area) slot = x;
 		if (!(area > p->sheet[slot].area)) return PVS_OK;
 	}
-	p->spoly = (float *)pvs__grow_array(&p->allocator, p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m,
-										2 * sizeof(float), &r);
-	if (!p->spoly) return r;
+	if (!pvs__grow_array(&p->allocator, (void **)&p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m,
+							2 * sizeof(float), &r))
+		return r;
 	p->sheet[slot].axis = axis;
 	p->sheet[slot].value = value;
 	p->sheet[slot].first = (uint32_t)p->spoly_count;
@@ -18898,9 +18887,9 @@ PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint
 	pvs_result r = PVS_OK;
 	int k = S->axis;
 	uint32_t x;
-	p->pts = (float *)pvs__grow_array(&p->allocator, p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on,
-									  3 * sizeof(float), &r);
-	if (!p->pts) return r;
+	if (!pvs__grow_array(&p->allocator, (void **)&p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on,
+							3 * sizeof(float), &r))
+		return r;
 	pts = p->pts + 3 * (size_t)oc->first;
 	oc->xfirst = (uint32_t)p->pt_count;
 	memcpy(p->pts + 3 * p->pt_count, pts, 3 * sizeof(float) * oc->count);
@@ -22859,9 +22848,9 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 	uint32_t i, best_axis = 3, best_score = n, axis;
 	float best_v = 0.0f;
 	if (level == b->depth) {
-		b->items = (uint8_t *)pvs__grow_array(b->a, b->items, &b->item_capacity, b->item_bytes,
-											  b->item_bytes + 5 * (size_t)n, 1, &r);
-		if (!b->items) return r;
+		if (!pvs__grow_array(b->a, (void **)&b->items, &b->item_capacity, b->item_bytes, b->item_bytes + 5 * (size_t)n,
+								1, &r))
+			return r;
 		b->leaf_start[b->leaves_done++] = (uint32_t)b->item_bytes;
 		for (i = 0; i < n; ++i)
 			b->item_bytes += pvs__put_varint(b->items + b->item_bytes, i ? ids[i] - ids[i - 1] - 1 : ids[0]);

@@ -2254,6 +2254,85 @@ static void ep_check_sweeps(int full) {
 /* The longest scene checks (about 20 s of make test under the sanitizer): make verify runs them
    (tests/verify_extproj.c). */
 void extproj_verify(void);
+/* Out of memory at every allocation of an EXTPROJ and a VOCC bake (a city block of box buildings, 4 cells): each ends
+   in OUT_OF_MEMORY or succeeds, and frees all it took (grown arrays kept their old block on a failed growth: they
+   leaked it, the sheets' polygons first). */
+typedef struct oom_alloc { long allocs, frees, fail_after; size_t live; } oom_alloc;
+static void *oom_alloc_fn(size_t size, size_t align, void *user) {
+    oom_alloc *c = (oom_alloc *)user;
+    void *q;
+    if ((c->fail_after >= 0 && c->allocs >= c->fail_after) || align > 16) return NULL;
+    q = malloc(size ? size : 1);
+    if (q) c->allocs++, c->live += size;
+    return q;
+}
+static void oom_free_fn(void *q, size_t size, void *user) {
+    oom_alloc *c = (oom_alloc *)user;
+    if (!q) return;
+    c->frees++, c->live -= size;
+    free(q);
+}
+static pvs_result oom_bake(const pvs_scene *s, pvs_method method, oom_alloc *c) {
+    static const pvs_box cells[4] = {{{1, 0.1f, 1}, {2, 1.5f, 2}}, {{5, 0.1f, 5}, {6, 1.5f, 6}},
+                                     {{9, 0.1f, 1}, {10, 1.5f, 2}}, {{1, 0.1f, 9}, {2, 1.5f, 10}}};
+    pvs_bake_desc bd;
+    pvs_bake *b;
+    pvs_error e;
+    pvs_result r;
+    uint32_t t;
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = s; bd.cells = cells; bd.cell_count = 4; bd.method = method;
+    bd.allocator.alloc = oom_alloc_fn; bd.allocator.free = oom_free_fn; bd.allocator.user = c;
+    if ((r = pvs_bake_begin(&bd, &b, &e)) != PVS_OK) return r;
+    for (t = 0; t < pvs_bake_task_count(b) && r == PVS_OK; ++t) r = pvs_bake_run_task(b, t, &e);
+    pvs_bake_destroy(b);
+    return r;
+}
+static void test_bake_out_of_memory(void) {
+    static float pos[3 * 8 * 8];
+    static uint32_t idx[36 * 8];
+    static const uint32_t q[36] = {0, 1, 3, 0, 3, 2, 4, 6, 7, 4, 7, 5, 0, 4, 5, 0, 5, 1,
+                                   2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+    pvs_object_desc obj[8];
+    pvs_scene_desc sd;
+    pvs_scene *s;
+    pvs_error e;
+    uint32_t n = 0, i, j, k, m;
+    for (i = 0; i < 4; ++i)
+        for (j = 0; j < 4; ++j) {
+            if ((i + j) % 2 == 0) continue;
+            for (k = 0; k < 8; ++k) {
+                float *p = pos + 3 * (8 * n + k);
+                p[0] = 3.0f * (float)i + (k & 1 ? 2.5f : 0.0f);
+                p[1] = k & 2 ? 3.0f + (float)i : 0.0f;
+                p[2] = 3.0f * (float)j + (k & 4 ? 0.4f : 0.0f);
+            }
+            for (k = 0; k < 36; ++k) idx[36 * n + k] = 8 * n + q[k];
+            obj[n].first_triangle = 12 * n; obj[n].triangle_count = 12; obj[n].flags = 0;
+            ++n;
+        }
+    memset(&sd, 0, sizeof(sd));
+    sd.positions = pos; sd.vertex_count = 8 * n; sd.indices = idx; sd.triangle_count = 12 * n;
+    sd.objects = obj; sd.object_count = n; sd.up_axis = 1;
+    CHECK(pvs_scene_create(&sd, &s, &e) == PVS_OK);
+    for (m = 0; m < 2; ++m) {
+        pvs_method method = m ? PVS_METHOD_VOCC : PVS_METHOD_EXTPROJ;
+        oom_alloc c = {0, 0, -1, 0};
+        long f, total, kept = 1;
+        CHECK(oom_bake(s, method, &c) == PVS_OK && c.allocs > 20 && c.live == 0);
+        total = c.allocs;
+        for (f = 0; f < total; ++f) {
+            oom_alloc d = {0, 0, 0, 0};
+            pvs_result r;
+            d.fail_after = f;
+            r = oom_bake(s, method, &d);
+            kept &= (r == PVS_ERROR_OUT_OF_MEMORY || r == PVS_OK) && d.allocs == d.frees && d.live == 0;
+        }
+        CHECK(kept);
+    }
+    pvs_scene_destroy(s);
+}
+
 void test_extproj(void);
 void extproj_verify(void) {
     test_sweep_subcells();
@@ -2262,6 +2341,7 @@ void extproj_verify(void) {
 }
 
 void test_extproj(void) {
+    test_bake_out_of_memory();
     test_portal_kernels();
     test_pass_planes();
     test_occluder_projection();
