@@ -5275,8 +5275,8 @@ PVS__STATIC void pvs__mesh_fast(pvs_raster *r, uint32_t n) {
 		for (e = 0; r->mgrp[t] && e < r->mt[t].n; ++e)
 			if (!r->mt[t].bnd[e] && (u = r->mpart[3 * t + r->mt[t].lab[e]] / 3) > t && !(row[t] && row[u]))
 				pvs__mesh_edge(r, t, e, u);
-	for (t = 0; t < n; ++t)
-		for (k = 0; k < 3; ++k) pvs__mesh_fan(r, t, k);
+	for (t = 0; t < n; ++t) /* fans of small polygons only: row pass's (walked from a large one otherwise) */
+		for (k = 0; k < 3 && !row[t]; ++k) pvs__mesh_fan(r, t, k);
 	for (t = 0; t < n; ++t) {
 		for (e = any = 0; row[t] && e < r->mt[t].n; ++e)
 			if (!r->mt[t].bnd[e]) {
