@@ -1,4 +1,4 @@
-/* pvs.h - v0.11.9 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.11.10 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -156,7 +156,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 11
-#define PVS_VERSION_PATCH 9
+#define PVS_VERSION_PATCH 10
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -546,7 +546,10 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_des
 	   for p < PVS_RASTER_PARTS: pvs_raster_bin(r, draws, n, p);
 	   for b < PVS_RASTER_PARTS: pvs_raster_draw_band(r, draws, n, b);  // after every bin
 	   pvs_raster_build_pyramid(r);  // then box tests on any threads
-   Map: pvs_raster_draw's for draws in order, byte for byte. Keep draws, their arrays, matrix until bands drawn. */
+   Map: pvs_raster_draw's for draws in order, byte for byte. Keep draws, their arrays, matrix until bands drawn. Bins
+   and bands may come in rounds (each round's bins after every band of the one before): a round's bins drop triangles
+   that earlier rounds' maps hide, so a first round of the nearest occluders (say 1,000) saves later rounds' bands most
+   work (bench_raster: two threads 1.5 to 1.6 times one, against 1.4 in one round). */
 #define PVS_RASTER_PARTS 8
 /* INVALID_ARGUMENT as pvs_raster_draw, and for occludees, PVS_DRAW_MESH, untiled raster or bad part; BUFFER_TOO_SMALL
    past pvs_raster_desc.bin_triangles. */
@@ -3594,6 +3597,7 @@ struct pvs_raster {
 	int mixed; /* `depth` holds occludees drawn since clear (untiled: all) */
 	float *bmin; /* per block of 8 x 8 tiles: <= min base z0 */
 	uint8_t *bdirty; /* 1: base grew since bmin */
+	int banded; /* band 0 drawn since clear: bins test blocks (band 0's thread alone writes it) */
 	uint32_t bw, bh; /* block grid */
 	uint32_t tlevels; /* tile pyramid levels above tile grid */
 	uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
@@ -4628,9 +4632,27 @@ PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, u
 	return 1;
 }
 
+/* Block k's minimum base taken anew (bx, by: its place). */
+PVS__STATIC void pvs__block_min(pvs_raster *r, uint32_t bx, uint32_t by) {
+	uint32_t x0 = bx << PVS__BLOCK_SHIFT, y0 = by << PVS__BLOCK_SHIFT, x1 = x0 + (1u << PVS__BLOCK_SHIFT) - 1,
+			 y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1, tx, ty;
+	size_t k = (size_t)by * r->bw + bx;
+	float lo = FLT_MAX;
+	if (x1 >= r->tw) x1 = r->tw - 1;
+	if (y1 >= r->th) y1 = r->th - 1;
+	for (ty = y0; ty <= y1; ++ty)
+		for (tx = x0; tx <= x1; ++tx) {
+			float z = r->tile[(size_t)ty * r->tw + tx].z0;
+			lo = z < lo ? z : lo;
+		}
+	r->bmin[k] = lo;
+	r->bdirty[k] = 0;
+}
+
 /* 1 if every tile under box[0]..box[8] x box[16]..box[24] (i0, i1, j0, j1) has base as near as zmax. Blocks first,
-   small boxes too (bases only grow: stale block minimum is lower bound, retaken on failure if dirty). */
-PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *box, float zmax) {
+   small boxes too (bases only grow: stale block minimum is lower bound, retaken on failure if dirty). `bins`: blocks
+   alone, read only (pvs_raster_bin's parts run at once). */
+PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *box, float zmax, int bins) {
 	uint32_t tx0 = (uint32_t)box[0] >> PVS__TW_SHIFT, tx1 = (uint32_t)box[8] >> PVS__TW_SHIFT;
 	uint32_t ty0 = (uint32_t)box[16] >> PVS__TH_SHIFT, ty1 = (uint32_t)box[24] >> PVS__TH_SHIFT, bx, by;
 	for (by = ty0 >> PVS__BLOCK_SHIFT; by <= ty1 >> PVS__BLOCK_SHIFT; ++by)
@@ -4638,20 +4660,14 @@ PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *box, float zmax) {
 			size_t k = (size_t)by * r->bw + bx;
 			uint32_t x0 = bx << PVS__BLOCK_SHIFT, y0 = by << PVS__BLOCK_SHIFT, x1 = x0 + (1u << PVS__BLOCK_SHIFT) - 1,
 					 y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1;
+			if (r->bmin[k] >= zmax) continue;
+			if (bins) return 0;
+			if (r->bdirty[k]) {
+				pvs__block_min(r, bx, by);
+				if (r->bmin[k] >= zmax) continue;
+			}
 			if (x1 >= r->tw) x1 = r->tw - 1;
 			if (y1 >= r->th) y1 = r->th - 1;
-			if (!(r->bmin[k] >= zmax) && r->bdirty[k]) {
-				uint32_t tx, ty;
-				float lo = FLT_MAX;
-				for (ty = y0; ty <= y1; ++ty)
-					for (tx = x0; tx <= x1; ++tx) {
-						float z = r->tile[(size_t)ty * r->tw + tx].z0;
-						lo = z < lo ? z : lo;
-					}
-				r->bmin[k] = lo;
-				r->bdirty[k] = 0;
-			}
-			if (r->bmin[k] >= zmax) continue;
 			if (!pvs__pf_tiles(r, x0 > tx0 ? x0 : tx0, x1 < tx1 ? x1 : tx1, y0 > ty0 ? y0 : ty0, y1 < ty1 ? y1 : ty1,
 							   zmax))
 				return 0;
@@ -4660,7 +4676,7 @@ PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *box, float zmax) {
 }
 
 /* Triangle t's vertices: of scene triangle tris[t].triangle (tris not NULL), indices[3 t ..] or 3 t ... */
-PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tris, uint32_t t, uint32_t q[3]) {
+PVS__STATIC inline void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tris, uint32_t t, uint32_t q[3]) {
 	const uint32_t *ix = tris ? indices + 3 * (size_t)tris[t].triangle : indices ? indices + 3 * (size_t)t : NULL;
 	q[0] = ix ? ix[0] : 3 * t;
 	q[1] = ix ? ix[1] : 3 * t + 1;
@@ -4669,7 +4685,7 @@ PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tr
 
 /* Limits from prefilter box (as pvs__pf_hidden's); 0 if hidden there. */
 PVS__STATIC int pvs__tlim_box(pvs_raster *r, const int32_t *box, float zmax, pvs__tlim *lim) {
-	if (pvs__pf_hidden(r, box, zmax)) return 0;
+	if (pvs__pf_hidden(r, box, zmax, 0)) return 0;
 	lim->tx0 = box[0] >> PVS__TW_SHIFT, lim->tx1 = box[8] >> PVS__TW_SHIFT;
 	lim->ty0 = box[16] >> PVS__TH_SHIFT, lim->ty1 = box[24] >> PVS__TH_SHIFT, lim->zmax = zmax;
 	return 1;
@@ -4694,7 +4710,7 @@ typedef char pvs__qmask_holds_bands[PVS_RASTER_PARTS == 8 ? 1 : -1]; /* band per
 PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
 										   uint32_t stride, const uint32_t *indices, const pvs__occsel *tris,
 										   uint32_t t0, uint32_t t1, int cull, uint32_t draw, uint32_t part) {
-	uint32_t t, l, k, id[8];
+	uint32_t t, l, k, id[8], vl;
 	const float *v[8][3];
 	float last[4], zmax[8];
 	unsigned keep, test, lanes;
@@ -4703,6 +4719,7 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 	uint32_t qn = part < PVS_RASTER_PARTS ? r->qcount[part] : 0; /* kept: counted here, stored once (threads' bins
 																	 share qcount's cache line) */
 	if (!vertex_count) return t1;
+	vl = vertex_count - 1;
 	memcpy(last, positions + (size_t)(vertex_count - 1) * stride, 3 * sizeof(float)); /* for SIMD's 4-float reads */
 	last[3] = 0.0f;
 	for (t = t0; t < t1; t += 8) {
@@ -4710,8 +4727,10 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 		for (l = 0; l < 8 && t + l < t1; ++l) {
 			uint32_t q[3];
 			pvs__tri_corners(indices, tris, t + l, q);
-			if (q[0] >= vertex_count || q[1] >= vertex_count || q[2] >= vertex_count) continue;
-			PVS__FOR3(k) v[n][k] = q[k] + 1 == vertex_count ? last : positions + (size_t)q[k] * stride;
+			if (q[0] > vl || q[1] > vl || q[2] > vl) continue;
+			v[n][0] = q[0] == vl ? last : positions + (size_t)q[0] * stride;
+			v[n][1] = q[1] == vl ? last : positions + (size_t)q[1] * stride;
+			v[n][2] = q[2] == vl ? last : positions + (size_t)q[2] * stride;
 			id[n++] = t + l;
 		}
 		if (!n) continue;
@@ -4739,8 +4758,11 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 			pvs__tlim lim = {0, INT32_MAX, 0, INT32_MAX, FLT_MAX, 0};
 			lim.cull = cull;
 			if ((keep >> l) & 1u && part < PVS_RASTER_PARTS) { /* kept for its rows' bands (untested: all) */
-				uint32_t i = r->qcount[PVS_RASTER_PARTS + part] + qn++, tst = (test >> l) & 1u;
-				pvs__qtri *q = r->qtri + i;
+				uint32_t tst = (test >> l) & 1u, i;
+				pvs__qtri *q;
+				if (tst && r->banded && pvs__pf_hidden(r, b, zmax[l], 1)) continue; /* by earlier rounds */
+				i = r->qcount[PVS_RASTER_PARTS + part] + qn++;
+				q = r->qtri + i;
 				q->draw = draw, q->tri = id[l], q->zmax = zmax[l], q->test = tst | (uint32_t)(cull + 1) << 1;
 				for (k = 0; k < 4; ++k) q->box[k] = b[8 * k];
 				r->qmask[i] = (uint8_t)(tst ? (2u << r->qband[b[24] >> 5]) - (1u << r->qband[b[16] >> 5]) : 255u);
@@ -4750,7 +4772,7 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 			} else if (mesh && (test >> (8 + l)) & 1u) { /* no whole pixel: hidden one pixel wider? */
 				b[0] -= b[0] > 0, b[8] += b[8] + 1 < (int32_t)r->width;
 				b[16] -= b[16] > 0, b[24] += b[24] + 1 < (int32_t)r->height;
-				if (b[0] <= b[8] && b[16] <= b[24] && !pvs__pf_hidden(r, b, zmax[l])) r->morder[r->mcn++] = id[l];
+				if (b[0] <= b[8] && b[16] <= b[24] && !pvs__pf_hidden(r, b, zmax[l], 0)) r->morder[r->mcn++] = id[l];
 			}
 		}
 		if (mesh && r->mcn + 8 > r->mesh_cap) return t + 8;
@@ -5443,6 +5465,7 @@ PVS_API void pvs_raster_clear(pvs_raster *r) {
 		r->bmin[i] = PVS_DEPTH_EMPTY;
 		r->bdirty[i] = 0;
 	}
+	r->banded = 0;
 	r->mixed = 0;
 	r->pyramid_valid = 0;
 	if (r->qcount) memset(r->qcount, 0, 2 * PVS_RASTER_PARTS * sizeof(uint32_t));
@@ -5521,6 +5544,11 @@ PVS_API void pvs_raster_draw_band(pvs_raster *r, const pvs_raster_draw_desc *dra
 									d->positions + (size_t)c[2] * s, 1, &lim);
 			}
 		}
+	p = (uint32_t)PVS__QBAND(r, band + 1) >> PVS__BLOCK_SHIFT;
+	for (i = (uint32_t)y0 >> (PVS__TH_SHIFT + PVS__BLOCK_SHIFT); i < p; ++i) /* own blocks' minima: next round's bins */
+		for (e = 0; e < r->bw; ++e)
+			if (r->bdirty[(size_t)i * r->bw + e]) pvs__block_min(r, e, i);
+	if (!band) r->banded = 1;
 }
 
 PVS_API pvs_result pvs_raster_draw(pvs_raster *r, const pvs_raster_draw_desc *d) {
@@ -24455,7 +24483,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.11.9 (2026-11-30) raster: pvs_raster_mesh's fast pass (edges, closed fans as polygons): mesh frame 2.15 -> 1.4x.
+   0.11.10 (2026-11-30) raster: bins in rounds (later bins drop what earlier rounds hide); occluder gather inlined.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

@@ -3,8 +3,9 @@
    (PVS_RASTER_SSE2) in the same binary:
      raster_frame_ms_1080p  clear + 50,000 occluder triangles at 1920x1080 + pyramid + 10,000 box tests
                             (_avx2, _sse2, _neon: the same, the path by name; _backface: back faces culled)
-     raster_frame_ms_1080p_2threads  the same frame on two threads: pvs_raster_bin, pvs_raster_draw_band,
-                            the box tests split (the map is checked against one thread's)
+     raster_frame_ms_1080p_2threads  the same frame on two threads: pvs_raster_bin, pvs_raster_draw_band in two
+                            rounds (the 1,000 nearest triangles, then the rest), the box tests split (the map is
+                            checked against one thread's)
      raster_mesh_frame_ms_1080p  the same with the triangles drawn as one occluder mesh (pvs_raster_mesh:
                             welded by position, no cracks along shared edges)
      raster_tris_per_ms     the rasterization part alone
@@ -195,7 +196,7 @@ int main(int argc, char **argv) {
         if (!pass) { /* the same frame on two threads */
             pvs_raster_desc qd = rd;
             pvs_raster *q;
-            pvs_raster_draw_desc dd = {occ, 0, 3 * n_occ, NULL, n_occ, PVS_RASTER_OCCLUDER, 0};
+            pvs_raster_draw_desc dd = {occ, 0, 3 * n_occ, NULL, n_occ, PVS_RASTER_OCCLUDER, 0}, d1 = dd, d2 = dd;
             frame2 f;
             pthread_t th;
             double best_2 = 1e30, best_1 = 1e30;
@@ -204,12 +205,18 @@ int main(int argc, char **argv) {
             if (pvs_raster_create(&qd, &q, &err) != PVS_OK) { printf("raster: %s\n", err.message); return 1; }
             pvs_raster_set_matrix(q, matrix);
             memset(&f, 0, sizeof(f));
-            f.r = q; f.d = &dd; f.boxes = boxes; f.n_box = n_box;
+            f.r = q; f.boxes = boxes; f.n_box = n_box;
+            d1.triangle_count = 1000, d1.vertex_count = 3000;
+            d2.positions = occ + 9000, d2.vertex_count = 3 * (n_occ - 1000), d2.triangle_count = n_occ - 1000;
             pthread_create(&th, NULL, frame2_worker, &f);
             for (rep = 0; rep < 400; ++rep) { /* alternating blocks of ten frames (the VM changes speed for seconds) */
                 double t0 = now_ms();
-                if (rep / 10 % 2 == 0) {
+                if (rep / 10 % 2 == 0) { /* two rounds: the 1,000 nearest triangles, then the rest */
                     pvs_raster_clear(q);
+                    f.d = &d1;
+                    frame2_phase(&f, 0);
+                    frame2_phase(&f, 1);
+                    f.d = &d2;
                     frame2_phase(&f, 0);
                     frame2_phase(&f, 1);
                     pvs_raster_build_pyramid(q);
