@@ -4148,7 +4148,7 @@ PVS__STATIC inline void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float 
 /* Polygon's tile rows: runs of 4 pixel rows, then per tile farthest depth; skips tiles already as near. */
 PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, const pvs__tlim *lim) {
 	int32_t ty, ty0 = (t->j0 + t->jlo) >> PVS__TH_SHIFT, ty1 = (t->j0 + t->jhi) >> PVS__TH_SHIFT;
-	float xr[PVS__RASTER_MAXV];
+	float xr[PVS__RASTER_MAXV], zcap = lim ? lim->zmax : FLT_MAX;
 	(void)simd;
 	if (lim) ty0 = ty0 > lim->ty0 ? ty0 : lim->ty0, ty1 = ty1 < lim->ty1 ? ty1 : lim->ty1;
 	for (ty = ty0; ty <= ty1; ++ty) {
@@ -4192,7 +4192,9 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, con
 		for (; tx <= tx1; ++tx) {
 			pvs__tile *tl = row + tx;
 			int32_t x0 = tx << PVS__TW_SHIFT, xa = x0 > lmin ? x0 : lmin, xb = (x0 + 31 < rmax ? x0 + 31 : rmax) + 1;
-			float fa = t->za * (float)(xa - t->i0), fb = t->za * (float)(xb - t->i0);
+			float fa, fb;
+			if (!(zcap > tl->z0)) continue; /* zt <= zcap: not nearer than base */
+			fa = t->za * (float)(xa - t->i0), fb = t->za * (float)(xb - t->i0);
 			p = t->zk + (fa < fb ? fa : fb);
 			p = p + zy;
 			p = p - t->zm;
