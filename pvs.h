@@ -549,7 +549,7 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_des
    Map: pvs_raster_draw's for draws in order, byte for byte. Keep draws, their arrays, matrix until bands drawn. Bins
    and bands may come in rounds (each round's bins after every band of the one before): a round's bins drop triangles
    that earlier rounds' maps hide, so a first round of the nearest occluders (say 1,000) saves later rounds' bands most
-   work (bench_raster: two threads 1.5 to 1.6 times one, against 1.4 in one round). */
+   work. */
 #define PVS_RASTER_PARTS 8
 /* INVALID_ARGUMENT as pvs_raster_draw, and for occludees, PVS_DRAW_MESH, untiled raster or bad part; BUFFER_TOO_SMALL
    past pvs_raster_desc.bin_triangles. */
@@ -4112,8 +4112,7 @@ PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t 
 
 /* Merges coverage T (as near as zt > z0) into tile, Hasselgren et al.'s two-layer update: T covering tile becomes base;
    else layer takes union at farther depth, or T if T leads it by more than it leads base; full layer becomes base. Each
-   pixel stays lower bound of nearest occluder. Off map: rows with bit set in `rows`, bits `xpad` (array's narrow stores
-   stalled wide loads: tests/BENCHMARKS.md, raster). */
+   pixel stays lower bound of nearest occluder. Off map: rows with bit set in `rows`, bits `xpad`. */
 PVS__STATIC inline void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, uint32_t rows, uint32_t xpad) {
 	uint32_t full = ~0u, any = 0, m;
 	int k;
@@ -4487,7 +4486,7 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 
 /* Lanes < n (<= 8) to draw (bit l), those in *test only if not hidden (bit 8 + l: not drawn, no whole pixel); box,
    zmax: their whole pixels in map (box[8 k + l]: i0, i1, j0, j1), nearest vertex depth. Lanes partly behind near or eye
-   plane drawn untested (clipped later) unless wholly behind one. */
+   plane drawn untested (clipped later) unless wholly behind one or past a side plane. */
 PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][3], unsigned *test, int32_t *box,
 									float *zmax, int n, int cull) {
 	const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
@@ -4507,7 +4506,16 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 		}
 		if (behind == 3 || nonpos == 3) continue;
 		draw |= 1u << l;
-		if (behind || nonpos) continue;
+		if (behind || nonpos) {
+			unsigned o = 15;
+			PVS__FOR3(k) {
+				float X = v[l][k][0], Y = v[l][k][1], Z = v[l][k][2];
+				x[k] = m[0] * X + m[1] * Y + m[2] * Z + m[3], y[k] = m[4] * X + m[5] * Y + m[6] * Z + m[7];
+				o &= (x[k] > cw[k]) | (x[k] + cw[k] < 0.0f) << 1 | (y[k] > cw[k]) << 2 | (y[k] + cw[k] < 0.0f) << 3;
+			}
+			if (o) draw &= ~(1u << l); /* past a side plane */
+			continue;
+		}
 		PVS__FOR3(k) {
 			float X = v[l][k][0], Y = v[l][k][1], Z = v[l][k][2], rw = 1.0f / cw[k];
 			x[k] = (m[0] * X + m[1] * Y + m[2] * Z + m[3]) * rw * hw + hw;
@@ -4549,8 +4557,8 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 		const unsigned A = (1u << W) - 1u; \
 		const F zero = F##_set1(0.0f), big = F##_set1(1e30f), one = F##_set1(1.0f); \
 		const F hw = F##_set1(r->hwf), hh = F##_set1(r->hhf); \
-		F X[3], Y[3], Z[3], cz[3], cw[3], x, y, z, xmin, xmax, ymin, ymax, zm, rw; \
-		M anyb, allb, nonpos, t, fin; \
+		F X[3], Y[3], Z[3], cx[3], cy[3], cz[3], cw[3], x, y, z, xmin, xmax, ymin, ymax, zm, rw; \
+		M anyb, allb, nonpos, t, fin, o[4]; \
 		I i0, i1, j0, j1; \
 		unsigned all, tst; \
 		int k; \
@@ -4572,12 +4580,20 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 		all = (unsigned)M##_bits(M##_or(allb, nonpos)); \
 		*test = 0; \
 		if (all == A) return 0; \
+		PVS__FOR3(k) { /* partly behind, past a side plane: dropped */ \
+			cx[k] = PVS__ROW(F, 0, k), cy[k] = PVS__ROW(F, 4, k); \
+			o[0] = M##_and(k ? o[0] : anyb, F##_gt(cx[k], cw[k])); \
+			o[1] = M##_and(k ? o[1] : anyb, F##_lt(F##_add(cx[k], cw[k]), zero)); \
+			o[2] = M##_and(k ? o[2] : anyb, F##_gt(cy[k], cw[k])); \
+			o[3] = M##_and(k ? o[3] : anyb, F##_lt(F##_add(cy[k], cw[k]), zero)); \
+		} \
+		all |= (unsigned)M##_bits(M##_or(M##_or(o[0], o[1]), M##_or(o[2], o[3]))); \
 		if ((unsigned)M##_bits(anyb) == A) return all ^ A; \
 		xmin = xmax = ymin = ymax = zm = zero; \
 		PVS__FOR3(k) { \
 			rw = F##_div(one, cw[k]); \
-			x = F##_add(F##_mul(F##_mul(PVS__ROW(F, 0, k), rw), hw), hw); \
-			y = F##_add(F##_mul(F##_mul(PVS__ROW(F, 4, k), rw), hh), hh); \
+			x = F##_add(F##_mul(F##_mul(cx[k], rw), hw), hw); \
+			y = F##_add(F##_mul(F##_mul(cy[k], rw), hh), hh); \
 			z = F##_mul(cz[k], rw); \
 			X[k] = x; \
 			Y[k] = y; \
@@ -4626,15 +4642,7 @@ PVS__AVX8 PVS__PF_DEF(pvs__pf_avx2, pvs__f8, pvs__m8, pvs__i8, 8)
 #endif
 #endif
 
-PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, uint32_t ty0, uint32_t ty1, float zmax) {
-	uint32_t tx, ty;
-	for (ty = ty0; ty <= ty1; ++ty)
-		for (tx = tx0; tx <= tx1; ++tx)
-			if (!(r->tile[(size_t)ty * r->tw + tx].z0 >= zmax)) return 0;
-	return 1;
-}
-
-/* Block k's minimum base taken anew (bx, by: its place). */
+/* Block (bx, by)'s minimum base taken anew. */
 PVS__STATIC void pvs__block_min(pvs_raster *r, uint32_t bx, uint32_t by) {
 	uint32_t x0 = bx << PVS__BLOCK_SHIFT, y0 = by << PVS__BLOCK_SHIFT, x1 = x0 + (1u << PVS__BLOCK_SHIFT) - 1,
 			 y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1, tx, ty;
@@ -4655,24 +4663,22 @@ PVS__STATIC void pvs__block_min(pvs_raster *r, uint32_t bx, uint32_t by) {
    small boxes too (bases only grow: stale block minimum is lower bound, retaken on failure if dirty). `bins`: blocks
    alone, read only (pvs_raster_bin's parts run at once). */
 PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *box, float zmax, int bins) {
-	uint32_t tx0 = (uint32_t)box[0] >> PVS__TW_SHIFT, tx1 = (uint32_t)box[8] >> PVS__TW_SHIFT;
+	uint32_t tx0 = (uint32_t)box[0] >> PVS__TW_SHIFT, tx1 = (uint32_t)box[8] >> PVS__TW_SHIFT, tx, ty;
 	uint32_t ty0 = (uint32_t)box[16] >> PVS__TH_SHIFT, ty1 = (uint32_t)box[24] >> PVS__TH_SHIFT, bx, by;
 	for (by = ty0 >> PVS__BLOCK_SHIFT; by <= ty1 >> PVS__BLOCK_SHIFT; ++by)
 		for (bx = tx0 >> PVS__BLOCK_SHIFT; bx <= tx1 >> PVS__BLOCK_SHIFT; ++bx) {
 			size_t k = (size_t)by * r->bw + bx;
 			uint32_t x0 = bx << PVS__BLOCK_SHIFT, y0 = by << PVS__BLOCK_SHIFT, x1 = x0 + (1u << PVS__BLOCK_SHIFT) - 1,
-					 y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1;
+					 y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1; /* box's tiles are on map */
 			if (r->bmin[k] >= zmax) continue;
 			if (bins) return 0;
 			if (r->bdirty[k]) {
 				pvs__block_min(r, bx, by);
 				if (r->bmin[k] >= zmax) continue;
 			}
-			if (x1 >= r->tw) x1 = r->tw - 1;
-			if (y1 >= r->th) y1 = r->th - 1;
-			if (!pvs__pf_tiles(r, x0 > tx0 ? x0 : tx0, x1 < tx1 ? x1 : tx1, y0 > ty0 ? y0 : ty0, y1 < ty1 ? y1 : ty1,
-							   zmax))
-				return 0;
+			for (ty = y0 > ty0 ? y0 : ty0; ty <= (y1 < ty1 ? y1 : ty1); ++ty)
+				for (tx = x0 > tx0 ? x0 : tx0; tx <= (x1 < tx1 ? x1 : tx1); ++tx)
+					if (!(r->tile[(size_t)ty * r->tw + tx].z0 >= zmax)) return 0;
 		}
 	return 1;
 }
