@@ -1496,6 +1496,23 @@ PVS__STATIC void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size
 /* Same by type: n elements of T; freeing n of *p's type. */
 #define PVS__ALLOC_N(a, T, n) ((T *)pvs__alloc_array(a, n, sizeof(T)))
 #define PVS__FREE_N(a, p, n) pvs__free_array(a, p, n, sizeof(*(p)))
+/* Buffers listed once for alloc and free: entry k's *p gets n elements of `size` bytes (pvs__bufs_alloc:
+   goes on past failure, 0 if one failed) or freed (pvs__bufs_free; skips NULL). */
+typedef struct pvs__buf {
+	void **p;
+	size_t n, size;
+} pvs__buf;
+#define PVS__BUF(b, k, ptr, count, elem) ((b)[k].p = (void **)&(ptr), (b)[k].n = (count), (b)[k].size = (elem), ++(k))
+#define PVS__BUFT(b, k, ptr, count) PVS__BUF(b, k, ptr, count, sizeof(*(ptr)))
+PVS__STATIC int pvs__bufs_alloc(const pvs_allocator *a, const pvs__buf *b, int k) {
+	int i, ok = 1;
+	for (i = 0; i < k; ++i) ok &= (*b[i].p = pvs__alloc_array(a, b[i].n, b[i].size)) != NULL;
+	return ok;
+}
+PVS__STATIC void pvs__bufs_free(const pvs_allocator *a, const pvs__buf *b, int k) {
+	int i;
+	for (i = 0; i < k; ++i) pvs__free_array(a, *b[i].p, b[i].n, b[i].size);
+}
 /* k over 3 axes (x, y, z) or triangle's 3 corners. */
 #define PVS__FOR3(k) for (k = 0; k < 3; ++k)
 /* Zeroes object x (variable, *p, member). */
@@ -2207,23 +2224,31 @@ PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32
 	}
 }
 
+/* Scene's copies (pvs__buf), listed once for create and destroy. */
+PVS__STATIC int pvs__scene_bufs(pvs_scene *s, pvs__buf *b) {
+	int k = 0;
+	PVS__BUFT(b, k, s->positions, (size_t)s->vertex_count * 3);
+	PVS__BUFT(b, k, s->indices, (size_t)s->triangle_count * 3);
+	PVS__BUFT(b, k, s->triangle_object, s->triangle_count);
+	PVS__BUFT(b, k, s->object_boxes, s->object_count);
+	PVS__BUFT(b, k, s->object_flags, s->object_count);
+	PVS__BUFT(b, k, s->object_triangles, (size_t)s->object_count * 2);
+	PVS__BUFT(b, k, s->occluders, s->occluder_count);
+	PVS__BUFT(b, k, s->occluder_boxes, s->occluder_count);
+	PVS__BUFT(b, k, s->occluder_data, s->occluder_data_count);
+	return k;
+}
+
 PVS_API void pvs_scene_destroy(pvs_scene *s) {
 	pvs_allocator a;
+	pvs__buf b[9];
 	if (!s) return;
 	a = s->allocator;
 	pvs_kdtree_destroy(s->triangle_tree);
 	pvs_kdtree_destroy(s->see_through_tree);
 	pvs_kdtree_destroy(s->object_tree);
 	PVS__FREE_N(&a, s->triangle_corners, (size_t)s->triangle_count * 9);
-	PVS__FREE_N(&a, s->positions, (size_t)s->vertex_count * 3);
-	PVS__FREE_N(&a, s->indices, (size_t)s->triangle_count * 3);
-	PVS__FREE_N(&a, s->triangle_object, s->triangle_count);
-	PVS__FREE_N(&a, s->object_boxes, s->object_count);
-	PVS__FREE_N(&a, s->object_flags, s->object_count);
-	PVS__FREE_N(&a, s->object_triangles, (size_t)s->object_count * 2);
-	PVS__FREE_N(&a, s->occluders, s->occluder_count);
-	PVS__FREE_N(&a, s->occluder_boxes, s->occluder_count);
-	PVS__FREE_N(&a, s->occluder_data, s->occluder_data_count);
+	pvs__bufs_free(&a, b, pvs__scene_bufs(s, b));
 	pvs__free(&a, s, sizeof(*s), 16);
 }
 
@@ -2388,6 +2413,8 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
 	size_t floats = 0;
 	uint32_t t;
 	pvs_box *tri_boxes = NULL;
+	pvs__buf b[9];
+	int ok;
 	if (out) *out = NULL;
 	if (!desc || !out) return PVS__BAD_ARG(err, "desc and out_scene must not be NULL");
 	r = pvs__scene_check_desc(desc, &floats, err);
@@ -2405,18 +2432,9 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
 	s->object_count = desc->object_count;
 	s->occluder_count = desc->occluder_count;
 	s->occluder_data_count = floats;
-	s->positions = PVS__ALLOC_N(&a, float, (size_t)desc->vertex_count * 3);
-	s->indices = PVS__ALLOC_N(&a, uint32_t, (size_t)desc->triangle_count * 3);
-	s->triangle_object = PVS__ALLOC_N(&a, uint32_t, desc->triangle_count);
-	s->object_boxes = PVS__ALLOC_N(&a, pvs_box, desc->object_count);
-	s->object_flags = PVS__ALLOC_N(&a, uint32_t, desc->object_count);
-	s->object_triangles = PVS__ALLOC_N(&a, uint32_t, (size_t)desc->object_count * 2);
-	s->occluders = PVS__ALLOC_N(&a, pvs_occluder_desc, desc->occluder_count);
-	s->occluder_boxes = PVS__ALLOC_N(&a, pvs_box, desc->occluder_count);
-	s->occluder_data = PVS__ALLOC_N(&a, float, floats);
+	ok = pvs__bufs_alloc(&a, b, pvs__scene_bufs(s, b));
 	tri_boxes = PVS__ALLOC_N(&a, pvs_box, desc->triangle_count);
-	if (!s->positions || !s->indices || !s->triangle_object || !s->object_boxes || !s->object_flags ||
-		!s->object_triangles || !s->occluders || !s->occluder_boxes || !s->occluder_data || !tri_boxes) {
+	if (!ok || !tri_boxes) {
 		r = PVS__OOM(err, "scene arrays");
 		goto fail;
 	}
@@ -3544,24 +3562,6 @@ PVS__AVX8 PVS__STATIC void pvs__f8_xyz3(const float *const v[][3], int k, __m256
 #define PVS__RASTER_ERR_F 9.5367431640625e-07	/* 2^-20 */
 #define PVS__RASTER_MAX_LEVELS 16
 #define PVS__RASTER_BIG 1e30
-
-/* Context's buffers, listed once for create, destroy: entry k's *p gets n elements of `size` bytes (pvs__bufs_alloc:
-   goes on past failure, 0 if one failed) or freed (pvs__bufs_free; skips NULL). */
-typedef struct pvs__buf {
-	void **p;
-	size_t n, size;
-} pvs__buf;
-#define PVS__BUF(b, k, ptr, count, elem) ((b)[k].p = (void **)&(ptr), (b)[k].n = (count), (b)[k].size = (elem), ++(k))
-#define PVS__BUFT(b, k, ptr, count) PVS__BUF(b, k, ptr, count, sizeof(*(ptr)))
-PVS__STATIC int pvs__bufs_alloc(const pvs_allocator *a, const pvs__buf *b, int k) {
-	int i, ok = 1;
-	for (i = 0; i < k; ++i) ok &= (*b[i].p = pvs__alloc_array(a, b[i].n, b[i].size)) != NULL;
-	return ok;
-}
-PVS__STATIC void pvs__bufs_free(const pvs_allocator *a, const pvs__buf *b, int k) {
-	int i;
-	for (i = 0; i < k; ++i) pvs__free_array(a, *b[i].p, b[i].n, b[i].size);
-}
 
 /* Occluder tile (Hasselgren et al. 2016), reversed Z: occluders at least as near as z0 on every pixel, z1 on `mask`
    (z1 > z0 if mask != 0). */
@@ -10622,21 +10622,23 @@ PVS__STATIC void pvs__weld(const pvs_scene *s, pvs__vx_vkey *vk, uint32_t *canon
 /* Edge-connected components (vertices matched exactly), open edges (odd use, not both at ground g). */
 PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_allocator *a, pvs__vx_topo *t) {
 	uint32_t nv = s->vertex_count, nt = s->triangle_count, i, k, up = s->up_axis, ne = 0, c;
-	pvs__vx_vkey *vk = NULL;
-	pvs__vx_edge *ed = NULL;
-	uint32_t *canon = NULL, *parent = NULL, *cid = NULL;
+	pvs__vx_vkey *vk;
+	pvs__vx_edge *ed;
+	uint32_t *canon, *parent, *cid;
 	size_t e0, e1;
 	pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
+	pvs__buf b[8];
+	int nb = 0;
 	PVS__ZERO(*t);
-	vk = PVS__ALLOC_N(a, pvs__vx_vkey, nv ? nv : 1);
-	canon = PVS__ALLOC_N(a, uint32_t, nv ? nv : 1);
-	ed = PVS__ALLOC_N(a, pvs__vx_edge, (size_t)(nt ? nt : 1) * 3);
-	parent = PVS__ALLOC_N(a, uint32_t, nt ? nt : 1);
-	cid = PVS__ALLOC_N(a, uint32_t, nt ? nt : 1);
-	t->tris = PVS__ALLOC_N(a, uint32_t, nt ? nt : 1);
-	t->comp_first = PVS__ALLOC_N(a, uint32_t, (size_t)nt + 2);
-	t->open_first = PVS__ALLOC_N(a, uint32_t, (size_t)nt + 2);
-	if (!vk || !canon || !ed || !parent || !cid || !t->tris || !t->comp_first || !t->open_first) goto done;
+	PVS__BUFT(b, nb, vk, nv ? nv : 1);
+	PVS__BUFT(b, nb, canon, nv ? nv : 1);
+	PVS__BUFT(b, nb, ed, (size_t)(nt ? nt : 1) * 3);
+	PVS__BUFT(b, nb, parent, nt ? nt : 1);
+	PVS__BUFT(b, nb, cid, nt ? nt : 1);
+	PVS__BUFT(b, nb, t->tris, nt ? nt : 1);
+	PVS__BUFT(b, nb, t->comp_first, (size_t)nt + 2);
+	PVS__BUFT(b, nb, t->open_first, (size_t)nt + 2);
+	if (!pvs__bufs_alloc(a, b, nb)) goto done;
 	pvs__weld(s, vk, canon);
 	for (i = 0; i < nt; ++i) {
 		parent[i] = i;
@@ -10700,11 +10702,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	}
 	res = PVS_OK;
 done:
-	PVS__FREE_N(a, vk, nv ? nv : 1);
-	PVS__FREE_N(a, canon, nv ? nv : 1);
-	PVS__FREE_N(a, ed, (size_t)(nt ? nt : 1) * 3);
-	PVS__FREE_N(a, parent, nt ? nt : 1);
-	PVS__FREE_N(a, cid, nt ? nt : 1);
+	pvs__bufs_free(a, b, 5);
 	if (res != PVS_OK) pvs__vx_topo_free(a, t, nt);
 	return res;
 }
@@ -15403,6 +15401,16 @@ typedef struct pvs__vocc_bake {
 	pvs_vocc_stats *stats; /* per task */
 } pvs__vocc_bake;
 
+/* Per-task arrays (pvs__buf), listed once for prepare and destroy. */
+PVS__STATIC int pvs__vocc_bake_bufs(pvs__vocc_bake *vo, pvs__buf *b) {
+	int k = 0;
+	PVS__BUFT(b, k, vo->bytes, (size_t)vo->task_count * vo->keep * 5);
+	PVS__BUFT(b, k, vo->count, vo->task_count);
+	PVS__BUFT(b, k, vo->scale, vo->task_count);
+	PVS__BUFT(b, k, vo->stats, vo->task_count);
+	return k;
+}
+
 PVS__STATIC pvs_result pvs__vocc_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
 	if (desc->vocc.only && (desc->method != PVS_METHOD_VOCC || desc->vocc.only > 1))
 		return PVS__BAD_ARG(err, "vocc.only is 0 or 1, and 1 needs PVS_METHOD_VOCC");
@@ -15416,6 +15424,7 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
 			 keep = desc->vocc.max_occluders ? desc->vocc.max_occluders : 10;
 	pvs__vocc_bake *vo;
 	pvs_result r;
+	pvs__buf b[4];
 	*state = NULL;
 	if (slices > 16 || keep > 255)
 		return PVS__BAD_ARG(err, "vocc: slices %u (1..16), occluders per cell %u (1..255)", slices, keep);
@@ -15433,11 +15442,7 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
 						 "vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual "
 						 "occluders cannot be built");
 	vo->only = desc->vocc.only;
-	vo->bytes = PVS__ALLOC_N(&env->allocator, uint8_t, (size_t)vo->task_count * keep * 5);
-	vo->count = PVS__ALLOC_N(&env->allocator, uint8_t, vo->task_count);
-	vo->scale = PVS__ALLOC_N(&env->allocator, uint8_t, vo->task_count);
-	vo->stats = PVS__ALLOC_N(&env->allocator, pvs_vocc_stats, vo->task_count);
-	if (!vo->bytes || !vo->count || !vo->scale || !vo->stats)
+	if (!pvs__bufs_alloc(&env->allocator, b, pvs__vocc_bake_bufs(vo, b)))
 		return PVS__OOM(err, "vocc: per-cell occluders");
 	memset(vo->count, 0, vo->task_count);
 	memset(vo->scale, 0, vo->task_count);
@@ -15493,12 +15498,10 @@ PVS__STATIC void pvs__vocc_bake_file(const void *state, pvs_file_desc *fd) {
 
 PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
 	pvs__vocc_bake *vo = (pvs__vocc_bake *)state;
+	pvs__buf b[4];
 	(void)env;
 	if (!vo) return;
-	PVS__FREE_N(&vo->allocator, vo->bytes, (size_t)vo->task_count * vo->keep * 5);
-	PVS__FREE_N(&vo->allocator, vo->count, vo->task_count);
-	PVS__FREE_N(&vo->allocator, vo->scale, vo->task_count);
-	PVS__FREE_N(&vo->allocator, vo->stats, vo->task_count);
+	pvs__bufs_free(&vo->allocator, b, pvs__vocc_bake_bufs(vo, b));
 	pvs__vbake_destroy(vo->vb);
 	pvs__free(&vo->allocator, vo, sizeof(*vo), 16);
 }
@@ -15960,19 +15963,20 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 							   pvs__po_wind *scratch, uint32_t *kept) {
 	const pvs_allocator *al = &p->allocator;
 	uint32_t planes[PVS__PO_MAX_FACES], i, k, t, nv = s->vertex_count, nt = s->triangle_count, ne = 0;
-	uint32_t *parent = NULL, *head = NULL, *next = NULL, (*edges)[2] = NULL, *canon = NULL;
-	pvs__vx_vkey *vk = NULL;
-	pvs__vx_edge *he = NULL;
-	int ok = 0;
+	uint32_t *parent, *head, *next, (*edges)[2], *canon;
+	pvs__vx_vkey *vk;
+	pvs__vx_edge *he;
+	pvs__buf bf[7];
+	int ok = 0, nb = 0;
 	if (nt == 0) return 1;
-	parent = PVS__ALLOC_N(al, uint32_t, nv);
-	head = PVS__ALLOC_N(al, uint32_t, nv);
-	next = PVS__ALLOC_N(al, uint32_t, nt);
-	edges = (uint32_t(*)[2])pvs__alloc_array(al, 6 * PVS__PO_MAX_FACES, sizeof(edges[0]));
-	canon = PVS__ALLOC_N(al, uint32_t, nv);
-	vk = PVS__ALLOC_N(al, pvs__vx_vkey, nv);
-	he = PVS__ALLOC_N(al, pvs__vx_edge, 3 * (size_t)nt);
-	if (!parent || !head || !next || !edges || !canon || !vk || !he) goto done;
+	PVS__BUFT(bf, nb, parent, nv);
+	PVS__BUFT(bf, nb, head, nv);
+	PVS__BUFT(bf, nb, next, nt);
+	PVS__BUFT(bf, nb, edges, 6 * PVS__PO_MAX_FACES);
+	PVS__BUFT(bf, nb, canon, nv);
+	PVS__BUFT(bf, nb, vk, nv);
+	PVS__BUFT(bf, nb, he, 3 * (size_t)nt);
+	if (!pvs__bufs_alloc(al, bf, nb)) goto done;
 	pvs__weld(s, vk, canon);
 	for (i = 0; i < nv; ++i) {
 		parent[i] = i;
@@ -16027,13 +16031,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 	}
 	ok = 1;
 done:
-	PVS__FREE_N(al, parent, s->vertex_count);
-	PVS__FREE_N(al, head, s->vertex_count);
-	PVS__FREE_N(al, next, s->triangle_count);
-	PVS__FREE_N(al, edges, 6 * PVS__PO_MAX_FACES);
-	PVS__FREE_N(al, canon, nv);
-	PVS__FREE_N(al, vk, nv);
-	PVS__FREE_N(al, he, 3 * (size_t)nt);
+	pvs__bufs_free(al, bf, nb);
 	return ok;
 }
 
@@ -18773,27 +18771,27 @@ typedef struct pvs__epsheetwork {
 	size_t cap;
 } pvs__epsheetwork;
 
-PVS__STATIC void pvs__ep_sheetwork_free(const pvs_allocator *a, pvs__epsheetwork *w) {
-	PVS__FREE_N(a, w->e, w->cap);
-	PVS__FREE_N(a, w->q, 2 * (w->cap + 1));
-	PVS__FREE_N(a, w->keep, w->cap + 1);
-	PVS__FREE_N(a, w->ends, 2 * w->cap);
-	PVS__FREE_N(a, w->uf, w->cap);
-	PVS__FREE_N(a, w->tarea, w->cap);
+/* Frees w's buffers; alloc: allocates them for w->cap instead (0: OOM, allocations stay in w). */
+PVS__STATIC int pvs__ep_sheetwork_bufs(const pvs_allocator *a, pvs__epsheetwork *w, int alloc) {
+	pvs__buf b[6];
+	int k = 0;
+	PVS__BUFT(b, k, w->e, w->cap);
+	PVS__BUFT(b, k, w->q, 2 * (w->cap + 1));
+	PVS__BUFT(b, k, w->keep, w->cap + 1);
+	PVS__BUFT(b, k, w->ends, 2 * w->cap);
+	PVS__BUFT(b, k, w->uf, w->cap);
+	PVS__BUFT(b, k, w->tarea, w->cap);
+	if (alloc) return pvs__bufs_alloc(a, b, k);
+	pvs__bufs_free(a, b, k);
+	return 1;
 }
 
 /* 0: OOM (allocations stay in w). */
 PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwork *w, size_t cap) {
 	if (cap <= w->cap) return 1;
-	pvs__ep_sheetwork_free(a, w);
+	pvs__ep_sheetwork_bufs(a, w, 0);
 	w->cap = cap;
-	w->e = PVS__ALLOC_N(a, pvs__epedge2, cap);
-	w->q = PVS__ALLOC_N(a, float, 2 * (cap + 1));
-	w->keep = PVS__ALLOC_N(a, unsigned char, cap + 1);
-	w->ends = PVS__ALLOC_N(a, pvs__epend, 2 * cap);
-	w->uf = PVS__ALLOC_N(a, uint32_t, cap);
-	w->tarea = PVS__ALLOC_N(a, double, cap);
-	return w->e && w->q && w->keep && w->ends && w->uf && w->tarea;
+	return pvs__ep_sheetwork_bufs(a, w, 1);
 }
 
 /* Keeps sheet polygon q (m vertices, plane x_axis = value) if among PVS__EP_MAX_SHEETS largest. */
@@ -18999,7 +18997,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
 	}
 done:
 	PVS__FREE_N(a, key, nkey);
-	pvs__ep_sheetwork_free(a, &w);
+	pvs__ep_sheetwork_bufs(a, &w, 0);
 	return r;
 }
 
@@ -20165,20 +20163,24 @@ typedef struct pvs__epscratch {
 	size_t stamp_count;
 } pvs__epscratch;
 
-PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w, uint32_t res) {
-	PVS__FREE_N(al, w->sel, w->nsel);
-	PVS__FREE_N(al, w->maps, 6 * PVS__EP_PLANES * w->map_floats);
-	PVS__FREE_N(al, w->masks, w->nmask * w->mask_bytes);
-	PVS__FREE_N(al, w->mask_hdr, w->nmask);
-	PVS__FREE_N(al, w->sat, w->sat_count * w->sat_table);
-	PVS__FREE_N(al, w->ranges, w->range_count);
-	PVS__FREE_N(al, w->slicer.seg, 4 * w->slicer.cap);
-	PVS__FREE_N(al, w->slicer.xs, 2 * w->slicer.cap);
-	PVS__FREE_N(al, w->slicer.row, w->slicer.width);
-	PVS__FREE_N(al, w->slicer.cmark, (size_t)res * res);
-	pvs__free(al, w->sweep, w->sweep_size, 16);
-	PVS__FREE_N(al, w->seen, w->seen_words);
-	PVS__FREE_N(al, w->stamp, w->stamp_count);
+/* Scratch's buffers (pvs__buf), listed once for pvs__extproj_cell's alloc and free; the sweep's if nmask. */
+PVS__STATIC int pvs__ep_scratch_bufs(pvs__epscratch *w, uint32_t res, pvs__buf *b) {
+	int k = 0;
+	PVS__BUFT(b, k, w->seen, w->seen_words);
+	PVS__BUFT(b, k, w->sel, w->nsel);
+	PVS__BUFT(b, k, w->maps, 6 * PVS__EP_PLANES * w->map_floats);
+	PVS__BUFT(b, k, w->slicer.seg, 4 * w->slicer.cap);
+	PVS__BUFT(b, k, w->slicer.xs, 2 * w->slicer.cap);
+	PVS__BUFT(b, k, w->slicer.row, w->slicer.width);
+	PVS__BUFT(b, k, w->slicer.cmark, (size_t)res * res);
+	PVS__BUF(b, k, w->sweep, w->sweep_size, 1);
+	if (!w->nmask) return k;
+	PVS__BUFT(b, k, w->masks, w->nmask * w->mask_bytes);
+	PVS__BUFT(b, k, w->mask_hdr, w->nmask);
+	PVS__BUFT(b, k, w->sat, w->sat_count * w->sat_table);
+	PVS__BUFT(b, k, w->ranges, w->range_count);
+	PVS__BUFT(b, k, w->stamp, w->stamp_count);
+	return k;
 }
 
 /* Solid angle of triangle (a, b, c) from e (Van Oosterom and Strackee 1983). */
@@ -20684,6 +20686,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
 										 pvs_word *bits, uint32_t cell_id, pvs_error *err) {
 	pvs__epcell c;
 	pvs__epscratch w;
+	pvs__buf wb[13];
 	uint32_t nsel[6], d, levels = pvs__ep_level_count(prm->res), nper;
 	int sheet_side[PVS__EP_MAX_SHEETS];
 	size_t level_floats = pvs__ep_pyramid_size(prm->res, prm->res, levels);
@@ -20711,33 +20714,19 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
 		}
 	}
 	w.seen_words = PVS_BITSET_WORDS(p->occ_count);
-	w.seen = PVS__ALLOC_N(al, pvs_word, w.seen_words);
 	w.slicer.cap = (size_t)p->max_slice_segments + 4;
 	w.slicer.width = prm->sweep ? pvs__ep_max_side(prm->res) : prm->res;
-	w.sel = PVS__ALLOC_N(al, pvs__epsel, w.nsel);
-	w.maps = PVS__ALLOC_N(al, float, 6 * PVS__EP_PLANES * w.map_floats);
-	w.slicer.seg = PVS__ALLOC_N(al, double, 4 * w.slicer.cap);
-	w.slicer.xs = PVS__ALLOC_N(al, double, 2 * w.slicer.cap);
-	w.slicer.row = PVS__ALLOC_N(al, unsigned char, w.slicer.width);
-	w.slicer.cmark = PVS__ALLOC_N(al, unsigned char, (size_t)prm->res * prm->res);
-	w.sweep = pvs__alloc(al, w.sweep_size, 16);
 	if (prm->sweep) {
-		w.masks = PVS__ALLOC_N(al, unsigned char, w.nmask * w.mask_bytes);
-		w.mask_hdr = PVS__ALLOC_N(al, pvs__epmask, w.nmask);
 		w.sat_count = pvs__ep_sat_count(prm->res, prm->sweep); /* >= 2: room for split tables */
 		w.sat_table = pvs__ep_sat_table(prm->res);
-		w.sat = PVS__ALLOC_N(al, uint32_t, w.sat_count * w.sat_table);
 		w.range_count = 2 * ((size_t)pvs__ep_max_side(prm->res) + prm->res);
-		w.ranges = PVS__ALLOC_N(al, int32_t, w.range_count);
 		w.stamp_count = p->occ_count ? p->occ_count : 1;
-		w.stamp = PVS__ALLOC_N(al, uint32_t, w.stamp_count);
-		if (w.stamp) memset(w.stamp, 0, w.stamp_count * sizeof(uint32_t));
 	}
-	if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.slicer.cmark || !w.sweep || !w.seen ||
-		(prm->sweep && (!w.masks || !w.mask_hdr || !w.sat || !w.ranges || !w.stamp))) {
+	if (!pvs__bufs_alloc(al, wb, pvs__ep_scratch_bufs(&w, prm->res, wb))) {
 		r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell_id, 0, "extproj scratch for cell %u", cell_id);
 		goto done;
 	}
+	if (w.stamp) memset(w.stamp, 0, w.stamp_count * sizeof(uint32_t));
 	c.masks = w.mask_hdr;
 	pvs__ep_sheet_sides(p, cell, sheet_side);
 	r = pvs__ep_select(s, p, cell, candidates, w.sel, nper, nsel, w.seen, w.sweep, w.sweep_size);
@@ -20763,7 +20752,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
 	r = pvs_kdtree_sweep(s->object_tree, cell, w.sweep, w.sweep_size, pvs__ep_visit, &c);
 	if (r != PVS_OK) r = pvs__fail(err, r, cell_id, 0, "extproj: object sweep of cell %u", cell_id);
 done:
-	pvs__ep_scratch_free(al, &w, prm->res);
+	pvs__bufs_free(al, wb, pvs__ep_scratch_bufs(&w, prm->res, wb));
 	return r;
 }
 /* ---- EXTPROJ bake method (>>bake's table row) */
@@ -21435,7 +21424,8 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
 	pvs_result res;
 	float eps = o->info.eps, spacing = 1.4f * eps;
 	uint32_t nb = o->box_count, i, face, ob;
-	size_t words = PVS_BITSET_WORDS(s->object_count);
+	size_t words = PVS_BITSET_WORDS(s->object_count), n1 = nb ? nb : 1;
+	pvs__buf b[5];
 	static const uint32_t quad[36] = {0, 1, 3, 0, 3, 2, 4, 6, 7, 4, 7, 5, 0, 4, 5, 0, 5, 1,
 									  2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
 	pvs_box grown;
@@ -21451,12 +21441,13 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
 	rd.allocator = o->allocator;
 	res = pvs_raster_create(&rd, &w.r, err);
 	if (res != PVS_OK) return res;
-	w.pos = PVS__ALLOC_N(&o->allocator, float, (size_t)(nb ? nb : 1) * 24);
-	w.idx = PVS__ALLOC_N(&o->allocator, uint32_t, (size_t)(nb ? nb : 1) * 36);
-	w.seen = PVS__ALLOC_N(&o->allocator, pvs_word, words ? words : 1);
-	w.sel = PVS__ALLOC_N(&o->allocator, uint32_t, (size_t)(nb ? nb : 1) * 36);
-	w.cand = PVS__ALLOC_N(&o->allocator, uint32_t, s->object_count ? s->object_count : 1);
-	if (!w.pos || !w.idx || !w.seen || !w.sel || !w.cand) {
+	k = 0;
+	PVS__BUFT(b, k, w.pos, n1 * 24);
+	PVS__BUFT(b, k, w.idx, n1 * 36);
+	PVS__BUFT(b, k, w.seen, words ? words : 1);
+	PVS__BUFT(b, k, w.sel, n1 * 36);
+	PVS__BUFT(b, k, w.cand, s->object_count ? s->object_count : 1);
+	if (!pvs__bufs_alloc(&o->allocator, b, k)) {
 		res = PVS__OOM(err, "shrink 3D scratch");
 		goto done;
 	}
@@ -21489,11 +21480,7 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
 			pvs_bitset_set(visible, ob);
 	res = PVS_OK;
 done:
-	PVS__FREE_N(&o->allocator, w.pos, (size_t)(nb ? nb : 1) * 24);
-	PVS__FREE_N(&o->allocator, w.idx, (size_t)(nb ? nb : 1) * 36);
-	PVS__FREE_N(&o->allocator, w.seen, words ? words : 1);
-	PVS__FREE_N(&o->allocator, w.sel, (size_t)(nb ? nb : 1) * 36);
-	PVS__FREE_N(&o->allocator, w.cand, s->object_count ? s->object_count : 1);
+	pvs__bufs_free(&o->allocator, b, 5);
 	pvs_raster_destroy(w.r);
 	return res;
 }
