@@ -77,7 +77,9 @@ readme-check: README.md pvs.h
 lint:
 	sh tests/lint.sh
 
-test: lint $(B)/pvstest compile-checks readme-check tools $(B)/pvsruntime $(B)/pvsdoor
+# pvs_impl.o (the tools' copy of the implementation, ~30 s) right after the test objects, so that it compiles beside
+# the tests' copy instead of after the syntax checks (make -j2 takes prerequisites in order): 65 -> 53 s of compiles
+test: lint $(B)/pvstest $(B)/obj/pvs_impl.o compile-checks readme-check tools $(B)/pvsruntime $(B)/pvsdoor
 	cd $(B) && ./pvstest -j 0
 
 # NEON (not part of `make test`): the test binary built for aarch64, static, its raster group run under
