@@ -1843,8 +1843,44 @@ static void test_paths(void) {
     free(tris); free(boxes);
 }
 
+/* Occluders across the near plane still occlude on every path (the prefilter drops only those past a side plane): a
+   side wall and a floor reaching behind the eye hide a box behind each; a third quad, behind and off to the side, is
+   dropped; a box in the open stays visible. */
+static void test_near_walls(void) {
+    static const float quads[3][4][3] = {{{-20, -20, 1}, {40, -20, 1}, {40, 20, 1}, {-20, 20, 1}},
+                                         {{-20, -1, -20}, {40, -1, -20}, {40, -1, 20}, {-20, -1, 20}},
+                                         {{-20, -5, -200}, {-1, -5, -200}, {-1, 5, -300}, {-20, 5, -300}}};
+    static const uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
+    /* hidden boxes past the quads' far ends (tiles keep the farthest depth) and off their diagonals (cracks) */
+    pvs_box behind_wall = {{60, -0.5f, 20}, {61, 0.5f, 22}}, below_floor = {{60, -5, -6}, {61, -4, -5}};
+    pvs_box open = {{20, 2, -1}, {21, 3, 0}};
+    pvs_raster_desc rd;
+    pvs_raster *r;
+    pvs_camera cam;
+    float m[16];
+    uint32_t cfg, q;
+    memset(&cam, 0, sizeof(cam));
+    cam.forward[0] = 1; cam.up[1] = 1; cam.fov_y = 1.6f; cam.near_plane = 0.0125f;
+    CHECK(pvs_camera_matrix(&cam, 1.5f, m) == PVS_OK);
+    for (cfg = 0; cfg < 6; ++cfg) {
+        memset(&rd, 0, sizeof(rd));
+        rd.width = 96; rd.height = 64;
+        rd.flags = (cfg & 1 ? PVS_RASTER_TILED : PVS_RASTER_PER_PIXEL) | (cfg / 2 == 1 ? PVS_RASTER_SSE2 : 0) |
+                   (cfg / 2 == 2 ? PVS_RASTER_SCALAR : 0);
+        CHECK(pvs_raster_create(&rd, &r, NULL) == PVS_OK);
+        pvs_raster_set_matrix(r, m);
+        pvs_raster_clear(r);
+        for (q = 0; q < 3; ++q) pvs_raster_triangles(r, &quads[q][0][0], 4, idx, 2, PVS_RASTER_OCCLUDER);
+        CHECK(pvs_raster_classify_box(r, &behind_wall) == PVS_BOX_OCCLUDED);
+        CHECK(pvs_raster_classify_box(r, &below_floor) == PVS_BOX_OCCLUDED);
+        CHECK(pvs_raster_classify_box(r, &open) == PVS_BOX_VISIBLE);
+        pvs_raster_destroy(r);
+    }
+}
+
 void test_raster(void);
 void test_raster(void) {
+    test_near_walls();
     raster_verify(1);
     test_mesh_crack();
     test_draw_options();
