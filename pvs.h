@@ -1,4 +1,4 @@
-/* pvs.h - v0.11.10 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.12.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -155,8 +155,8 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 11
-#define PVS_VERSION_PATCH 10
+#define PVS_VERSION_MINOR 12
+#define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -259,6 +259,10 @@ typedef struct pvs_kdtree pvs_kdtree;
 /* Drawn, in PVSs, never blocks sight (any method, ray sampling, per-frame culling): glass, foliage, grates, doors (bake
    doors open; per frame, pass closed doors' triangles as occluders). */
 #define PVS_OBJECT_SEE_THROUGH 2u
+/* Drawn front only (back faces culled; front: counter-clockwise, (b - a) x (c - a) toward eye): left out where all of a
+   cell lies behind each triangle's plane; samples count front hits. Blocks sight both ways, as any opaque object: flag
+   surfaces of closed geometry (Quake 3's brush faces). */
+#define PVS_OBJECT_ONE_SIDED 4u
 
 /* Object, unit of visibility: triangle range disjoint from others'; triangles in none only block sight. */
 typedef struct pvs_object_desc {
@@ -948,8 +952,8 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *
 
 /* Estimator: `points` stratified points in `cell` (corners, face centres, then jittered grid), `rays_per_point` uniform
    directions each; sets in `visible` (object bitset, not cleared; never occluder-only objects) first object each ray
-   hits and see-through ones it crosses first. Returns # rays. Lower bound. Deterministic in `seed`; thread-safe, no
-   allocation. */
+   hits and see-through ones it crosses first (one-sided: front hits). Returns # rays. Lower bound. Deterministic in
+   `seed`; thread-safe, no allocation. */
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
 									   uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
@@ -2289,8 +2293,9 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 							 ob->first_triangle + ob->triangle_count, desc->triangle_count);
 		if (ob->triangle_count == 0 && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
 			return pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, o, 0, "object %u has no triangles", o);
-		if (ob->flags & ~3u || ob->flags == 3u)
-			return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, o, 0, "object %u: flags %u not 0, 1 or 2", o, ob->flags);
+		if (ob->flags & ~7u || (ob->flags & 1u && ob->flags != 1u))
+			return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, o, 0,
+							 "object %u: flags %u: unknown, or occluder-only and more", o, ob->flags);
 	}
 	*floats = 0;
 	for (o = 0; o < desc->occluder_count; ++o) {
@@ -3276,10 +3281,30 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 	return rc.triangle != 0xffffffffu;
 }
 
+/* Triangle t's normal (b - a) x (c - a), in double from its floats; returns its object. */
+PVS__STATIC uint32_t pvs__tri_normal(const pvs_scene *s, uint32_t t, double n[3]) {
+	const uint32_t *q = s->indices + 3 * (size_t)t;
+	const float *a = s->positions + 3 * (size_t)q[0], *b = s->positions + 3 * (size_t)q[1],
+				*c = s->positions + 3 * (size_t)q[2];
+	double e[3], f[3];
+	int k;
+	PVS__FOR3(k) e[k] = (double)b[k] - a[k], f[k] = (double)c[k] - a[k];
+	n[0] = e[1] * f[2] - e[2] * f[1], n[1] = e[2] * f[0] - e[0] * f[2], n[2] = e[0] * f[1] - e[1] * f[0];
+	return s->triangle_object[t];
+}
+/* 1 unless t's object is one-sided (PVS_OBJECT_ONE_SIDED) and ray dir meets t from behind or edge on: nothing drawn. */
+PVS__STATIC int pvs__front_hit(const pvs_scene *s, uint32_t t, const float dir[3]) {
+	double n[3];
+	uint32_t o = pvs__tri_normal(s, t, n);
+	return o == PVS_NO_OBJECT || !(s->object_flags[o] & PVS_OBJECT_ONE_SIDED) ||
+		   n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2] < 0.0;
+}
+
 /* Sets objects of see-through triangles sampled ray origin + t dir crosses till it stops (0 <= t <= tmax;
    watertight). */
 typedef struct pvs__see_through {
 	pvs__ray ray;
+	const float *dir;
 	const pvs_scene *scene;
 	double tmax;
 	pvs_word *visible;
@@ -3293,7 +3318,8 @@ PVS__STATIC float pvs__see_through_leaf(void *user, const uint32_t *items, uint3
 	(void)t_enter;
 	(void)t_exit;
 	for (i = 0; i < count; ++i)
-		if (pvs__ray_triangle(&st->ray, st->scene->triangle_corners + 9 * (size_t)items[i], st->tmax, &t))
+		if (pvs__ray_triangle(&st->ray, st->scene->triangle_corners + 9 * (size_t)items[i], st->tmax, &t) &&
+			pvs__front_hit(st->scene, items[i], st->dir))
 			pvs_bitset_set(st->visible, st->scene->triangle_object[items[i]]);
 	return FLT_MAX;
 }
@@ -3310,6 +3336,7 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 	}
 	if (!pvs__ray_setup(&st.ray, o, d)) return;
 	st.scene = s;
+	st.dir = dir;
 	st.tmax = nextafterf(tmax, FLT_MAX);
 	st.visible = visible;
 	pvs_kdtree_ray(s->see_through_tree, origin, dir, (float)st.tmax, pvs__see_through_leaf, &st);
@@ -17242,7 +17269,8 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 			++rays;
 			hit.t = tmax;
 			if (pvs_scene_raycast(scene, p, dir, tmax, &hit) && hit.object != PVS_NO_OBJECT &&
-				!(scene->object_flags[hit.object] & PVS_OBJECT_OCCLUDER_ONLY))
+				!(scene->object_flags[hit.object] & PVS_OBJECT_OCCLUDER_ONLY) &&
+				pvs__front_hit(scene, hit.triangle, dir))
 				pvs_bitset_set(visible, hit.object);
 			pvs__see_through_mark(scene, p, dir, hit.t, visible);
 		}
@@ -17281,7 +17309,8 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 			++rays;
 			hit.t = len * 1.001f + 1e-6f;
 			if (pvs_scene_raycast(scene, p, dir, hit.t, &hit) && hit.object != PVS_NO_OBJECT &&
-				!(scene->object_flags[hit.object] & PVS_OBJECT_OCCLUDER_ONLY))
+				!(scene->object_flags[hit.object] & PVS_OBJECT_OCCLUDER_ONLY) &&
+				pvs__front_hit(scene, hit.triangle, dir))
 				pvs_bitset_set(visible, hit.object);
 			pvs__see_through_mark(scene, p, dir, hit.t, visible);
 			if (pvs_bitset_test(visible, o)) break;
@@ -22206,13 +22235,33 @@ PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
 PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
 PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->env.eps; }
 
-/* Draw distance (pvs_bake_desc.max_distance), rounded toward keeping. */
+/* Left out, rounded toward keeping: objects past draw distance (pvs_bake_desc.max_distance); one-sided ones with all of
+   box behind each triangle's plane (max over box of n.(p - a) < -1e-9 of its terms' size; errors ~1e-15). */
 PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_word *bits) {
-	uint32_t i;
-	if (!(b->max_distance > 0.0f)) return;
+	const pvs_scene *s = b->env.scene;
+	uint32_t i, t, e;
+	int k;
 	for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count;
-		 i = pvs_bitset_next(bits, b->object_count, i + 1))
-		if (pvs__box_beyond(box, b->env.scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
+		 i = pvs_bitset_next(bits, b->object_count, i + 1)) {
+		if (b->max_distance > 0.0f && pvs__box_beyond(box, s->object_boxes + i, b->max_distance)) {
+			pvs_bitset_clear(bits, i);
+			continue;
+		}
+		if (!(s->object_flags[i] & PVS_OBJECT_ONE_SIDED)) continue;
+		for (t = s->object_triangles[2 * (size_t)i], e = t + s->object_triangles[2 * (size_t)i + 1]; t < e; ++t) {
+			const float *a = s->positions + 3 * (size_t)s->indices[3 * (size_t)t];
+			double n[3], m = 0.0, size = 0.0;
+			pvs__tri_normal(s, t, n);
+			PVS__FOR3(k) {
+				double c = 0.5 * ((double)box->min[k] + box->max[k]) - a[k],
+					   h = 0.5 * ((double)box->max[k] - box->min[k]);
+				m += n[k] * c + fabs(n[k]) * h;
+				size += fabs(n[k]) * (fabs(c) + h);
+			}
+			if (!(m < -1e-9 * size)) break; /* box sees its front or meets its plane */
+		}
+		if (t == e && e > s->object_triangles[2 * (size_t)i]) pvs_bitset_clear(bits, i);
+	}
 }
 
 /* All methods on box, intersected, within `candidates` if given, then draw distance. `each`: run_count + 1. */
@@ -24478,7 +24527,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.11.10 (2026-11-30) raster: bins in rounds (later bins drop what earlier rounds hide); occluder gather inlined.
+   0.12.0 (2026-11-30) scene: PVS_OBJECT_ONE_SIDED (no cell's PVS holds an object facing away from all of it).
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

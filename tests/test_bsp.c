@@ -213,6 +213,30 @@ static void tb_reads(void) {
         mesh_free(&m);
         mesh_cells_free(&c);
     }
+    /* the game's shader scripts: the quad's shader culls back faces (no script for it, or one without cull or
+       deformVertexes), so it is one-sided, its triangles turned counter-clockwise about its normal (Y up +y); cull
+       none, disable, twosided or back, or deformVertexes (autosprites face the eye), keep it two-sided */
+    {
+        static const char *const scripts[] = {
+            "// nothing about it\ntextures/other { cull none }\n", "textures/WALL\n{\n\tsurfaceparm nomarks\n\t{ map $lightmap }\n}\n",
+            "/* { */ textures/wall { cull disable }", "textures/wall {\n deformVertexes autosprite\n}",
+            "textures/wall { cull twosided } textures/wall { }", "textures/wall{cull back}"};
+        bsp_options o;
+        memset(&o, 0, sizeof(o));
+        for (uint32_t k = 0; k < 6; ++k) {
+            o.shaders = scripts[k];
+            CHECK(bsp_parse("t.bsp", t.bytes, t.size, &o, &m, &c, NULL, &st, &err) == 0);
+            const uint32_t *q = m.indices + 3 * m.objects[0].first_triangle;
+            const float *a = m.positions + 3 * q[0], *b = m.positions + 3 * q[1], *d = m.positions + 3 * q[2];
+            float ny = (b[2] - a[2]) * (d[0] - a[0]) - (b[0] - a[0]) * (d[2] - a[2]); /* y of (b - a) x (d - a) */
+            int one = k < 2;
+            CHECK(st.one_sided_surfaces == (uint32_t)one && m.objects[1].flags == 0 && (ny > 0) == one);
+            CHECK(m.objects[0].flags == (one ? MESH_OBJECT_ONE_SIDED : 0u) &&
+                  !strcmp(m.objects[0].name, one ? "one_sided_s0" : "s0"));
+            mesh_free(&m);
+            mesh_cells_free(&c);
+        }
+    }
     /* without vis data every cell sees everything; a water brush does not block */
     t.len[16] = 0;
     tb_put32(t.bytes + 12 + 8 * 16, 0);

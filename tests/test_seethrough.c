@@ -47,6 +47,51 @@ static int st_bake(const pvs_scene *s, const pvs_box *cell, pvs_method method, p
     return ok;
 }
 
+/* PVS_OBJECT_ONE_SIDED: upright quads in plane x = qx (z in [z0, z1], 3 high) facing +x or -x (counter-clockwise
+   front). Seen from the cell (x in [-3, -2]): quad 1 faces it, quad 2 (x = 2) faces away (dropped from the PVS,
+   its back hits not counted), quad 3 (x = -2.5) has the cell on both sides of its plane (kept). */
+static void test_one_sided(void) {
+    static const float q[3][4] = {{2, -6, -2, -1}, {2, 2, 6, 1}, {-2.5f, 5, 8, 1}}; /* x, z0, z1, facing */
+    static const pvs_method methods[] = {PVS_METHOD_SAMPLE, PVS_METHOD_PORTAL, PVS_METHOD_OTREE, PVS_METHOD_AUTO};
+    const pvs_box cell = {{-3, 0.5f, -0.5f}, {-2, 1.5f, 0.5f}};
+    float pos[3 * 16];
+    uint32_t idx[3 * 8], vc = 0, tc = 0, k, m, one;
+    pvs_object_desc obs[4];
+    pvs_word seen[1], pvs[1];
+    memset(obs, 0, sizeof(obs));
+    for (k = 0; k < 4; ++k) { /* ground (y = 0, facing up), then the quads: (x, 0, a) (x, 3, a) (x, 3, b) (x, 0, b) */
+        float a = k ? q[k - 1][q[k - 1][3] > 0 ? 1 : 2] : 0, b = k ? q[k - 1][q[k - 1][3] > 0 ? 2 : 1] : 0;
+        const float ground[12] = {-30, 0, 30, 30, 0, 30, 30, 0, -30, -30, 0, -30};
+        float quad[12] = {0, 0, 0, 0, 3, 0, 0, 3, 0, 0, 0, 0};
+        uint32_t j;
+        for (j = 0; j < 4; ++j) quad[3 * j] = k ? q[k - 1][0] : 0, quad[3 * j + 2] = j < 2 ? a : b;
+        memcpy(pos + 3 * vc, k ? quad : ground, sizeof(quad));
+        obs[k].first_triangle = tc;
+        obs[k].triangle_count = 2;
+        idx[3 * tc] = vc, idx[3 * tc + 1] = vc + 1, idx[3 * tc + 2] = vc + 2, ++tc;
+        idx[3 * tc] = vc, idx[3 * tc + 1] = vc + 2, idx[3 * tc + 2] = vc + 3, ++tc;
+        vc += 4;
+    }
+    for (one = 0; one < 2; ++one) {
+        pvs_scene *s;
+        for (k = 0; k < 4; ++k) obs[k].flags = one ? PVS_OBJECT_ONE_SIDED : 0u;
+        s = test_scene_arrays(pos, vc, idx, tc, obs, 4, 1);
+        CHECK(s != NULL);
+        if (!s) return;
+        test_sample(s, &cell, 64, 512, 7, 64, 9, seen); /* the back of quad 2 counts only when two-sided */
+        CHECK((seen[0] & 0xfu) == (one ? 0xbu : 0xfu));
+        for (m = 0; m < sizeof(methods) / sizeof(methods[0]); ++m) {
+            CHECK(st_bake(s, &cell, methods[m], pvs));
+            if ((pvs[0] & 0xfu) != (one ? 0xbu : 0xfu))
+                fprintf(stderr, "seethrough: one-sided %u, %s: PVS %#x\n", one, pvs_method_name(methods[m]), (unsigned)pvs[0]);
+            CHECK((pvs[0] & 0xfu) == (one ? 0xbu : 0xfu));
+        }
+        pvs_scene_destroy(s);
+    }
+    obs[1].flags = PVS_OBJECT_ONE_SIDED | PVS_OBJECT_OCCLUDER_ONLY; /* refused: never drawn */
+    CHECK(test_scene_arrays(pos, vc, idx, tc, obs, 4, 1) == NULL);
+}
+
 void test_seethrough(void) {
     static const pvs_method methods[] = {PVS_METHOD_PORTAL, PVS_METHOD_OTREE, PVS_METHOD_EXTPROJ,
                                          PVS_METHOD_SHRINK, PVS_METHOD_VOCC,  PVS_METHOD_AUTO};
@@ -126,4 +171,5 @@ void test_seethrough(void) {
 done:
     pvs_scene_destroy(opaque);
     pvs_scene_destroy(clear);
+    test_one_sided();
 }

@@ -156,6 +156,10 @@ static void tt_obj_accepts(void) {
         CHECK(m.objects[2].flags == MESH_OBJECT_SEE_THROUGH && m.objects[3].flags == 0 && m.objects[4].flags == 0);
     }
     mesh_free(&m);
+    /* and the one-sided one (pvsimport --shaders): drawn front only */
+    CHECK(tt_obj_ok("v 0 0 0\nv 1 0 0\nv 0 1 0\no one_sided_s7\nf 1 2 3\no One_sided\nf 1 2 3\n", &m));
+    CHECK(m.object_count == 2 && m.objects[0].flags == MESH_OBJECT_ONE_SIDED && m.objects[1].flags == 0);
+    mesh_free(&m);
 
     /* CR line ends (old Mac files) read as lines, mixed with LF and CRLF; lines are counted the
        same way for errors, in OBJ and cells files. */

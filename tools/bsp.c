@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <ctype.h>
 
 enum { L_SHADERS = 1, L_PLANES = 2, L_NODES = 3, L_LEAFS = 4, L_LEAFSURFACES = 5, L_MODELS = 7, L_BRUSHES = 8,
        L_BRUSHSIDES = 9, L_DRAWVERTS = 10, L_DRAWINDEXES = 11, L_SURFACES = 13, L_VISIBILITY = 16, L_COUNT = 17 };
@@ -129,7 +130,7 @@ static int add_vertex(const bsp_reader *r, mesh *m, uint32_t vertex, const doubl
 
 /* Planar surfaces and triangle soups: their vertices and index triples (Quake's winding). A planar surface lies
    on a brush face: it is lifted BSP_LIFT along its normal (the record's lightmap normal, when a unit vector). */
-static int add_triangles(const bsp_reader *r, uint32_t s, const uint8_t *f, mesh *m, tool_error *err) {
+static int add_triangles(const bsp_reader *r, uint32_t s, const uint8_t *f, int flip, mesh *m, tool_error *err) {
     float nf[3] = {rd_f32(f + 84), rd_f32(f + 88), rd_f32(f + 92)};
     double lift[3], len = finite3(nf) ? sqrt((double)nf[0] * nf[0] + (double)nf[1] * nf[1] + (double)nf[2] * nf[2]) : 0;
     int lifted = rd_i32(f + 8) == MST_PLANAR && len > 0.99 && len < 1.01;
@@ -155,7 +156,7 @@ static int add_triangles(const bsp_reader *r, uint32_t s, const uint8_t *f, mesh
             }
             t[k] = base + (uint32_t)v;
         }
-        if (mesh_add_triangle(m, t[0], t[1], t[2])) {
+        if (mesh_add_triangle(m, t[0], t[1 + flip], t[2 - flip])) {
             tool_error_set(err, r->path, 0, "out of memory");
             return -1;
         }
@@ -213,40 +214,129 @@ oom:
     return -1;
 }
 
-static int read_surfaces(const bsp_reader *r, uint32_t level, mesh *m, bsp_stats *st, tool_error *err) {
+/* ---- one-sided surfaces: Quake 3's shader scripts ---- */
+
+/* 1 if a[0..n) and b[0..n) are equal but for case. */
+static int same_nocase(const char *a, const char *b, size_t n) {
+    for (size_t i = 0; i < n; ++i)
+        if (tolower((unsigned char)a[i]) != tolower((unsigned char)b[i])) return 0;
+    return 1;
+}
+
+/* Next token of shader script text at *p: "{", "}" or a word (comments skipped); its length, 0 at the end. */
+static size_t script_token(const char **p, const char **tok) {
+    const char *c = *p;
+    for (;;) {
+        while (*c && isspace((unsigned char)*c)) ++c;
+        if (c[0] == '/' && c[1] == '/') while (*c && *c != '\n') ++c;
+        else if (c[0] == '/' && c[1] == '*') {
+            const char *e = strstr(c + 2, "*/");
+            c = e ? e + 2 : c + strlen(c);
+        } else break;
+    }
+    *tok = c;
+    if (*c == '{' || *c == '}') c++;
+    else while (*c && !isspace((unsigned char)*c) && *c != '{' && *c != '}') ++c;
+    *p = c;
+    return (size_t)(c - *tok);
+}
+
+/* two[i] = 1 if a definition of the level's shader i in `scripts` draws both faces (cull none, disable, twosided or
+   back: only back faces) or moves its vertices (deformVertexes: autosprites turn to the eye). */
+static void two_sided_shaders(const bsp_reader *r, const char *scripts, uint8_t *two) {
+    const char *p = scripts, *t, *name = NULL;
+    size_t n, name_n = 0;
+    int depth = 0, both = 0, cull = 0;
+    while ((n = script_token(&p, &t)) > 0) {
+        if (*t == '{') {
+            if (++depth == 1) both = 0;
+        } else if (*t == '}') {
+            if (depth > 0 && --depth == 0 && both && name)
+                for (uint32_t i = 0; i < r->l[L_SHADERS].count; ++i) {
+                    const char *sn = (const char *)rec(r, L_SHADERS, i), *z = (const char *)memchr(sn, 0, 64);
+                    if ((size_t)((z ? z : sn + 64) - sn) == name_n && same_nocase(sn, name, name_n)) two[i] = 1;
+                }
+        } else if (depth == 0) {
+            name = t, name_n = n;
+        } else {
+            if (cull)
+                both |= (n == 4 && (same_nocase(t, "none", 4) || same_nocase(t, "back", 4))) ||
+                        (n == 7 && same_nocase(t, "disable", 7)) || (n == 8 && same_nocase(t, "twosided", 8));
+            if (n == 14 && same_nocase(t, "deformvertexes", n)) both = 1;
+        }
+        cull = depth > 0 && *t != '{' && *t != '}' && n == 4 && same_nocase(t, "cull", 4);
+    }
+}
+
+/* 1 if planar surface f's triangles all wind clockwise about its normal (Quake's front faces), each of area. */
+static int planar_clockwise(const bsp_reader *r, const uint8_t *f) {
+    float nf[3] = {rd_f32(f + 84), rd_f32(f + 88), rd_f32(f + 92)};
+    int32_t fv = rd_i32(f + 12), nv = rd_i32(f + 16), fi = rd_i32(f + 20), ni = rd_i32(f + 24);
+    if (rd_i32(f + 8) != MST_PLANAR || !finite3(nf) || ni <= 0 || ni % 3 || fv < 0 || nv < 0 || fi < 0 ||
+        (uint32_t)fv + (uint32_t)nv > r->l[L_DRAWVERTS].count || (uint32_t)fi + (uint32_t)ni > r->l[L_DRAWINDEXES].count)
+        return 0;
+    for (int32_t i = 0; i < ni; i += 3) {
+        double q[3][3], e[3], g[3];
+        for (int k = 0; k < 3; ++k) {
+            int32_t v = rd_i32(rec(r, L_DRAWINDEXES, (uint32_t)(fi + i + k)));
+            if (v < 0 || v >= nv) return 0;
+            for (int j = 0; j < 3; ++j) q[k][j] = rd_f32(rec(r, L_DRAWVERTS, (uint32_t)(fv + v)) + 4 * j);
+        }
+        for (int j = 0; j < 3; ++j) e[j] = q[1][j] - q[0][j], g[j] = q[2][j] - q[0][j];
+        if (!((e[1] * g[2] - e[2] * g[1]) * nf[0] + (e[2] * g[0] - e[0] * g[2]) * nf[1] + (e[0] * g[1] - e[1] * g[0]) * nf[2] < 0))
+            return 0;
+    }
+    return 1;
+}
+
+static int read_surfaces(const bsp_reader *r, uint32_t level, const char *scripts, mesh *m, bsp_stats *st,
+                         tool_error *err) {
     char name[32];
+    uint8_t *two = scripts ? (uint8_t *)calloc(r->l[L_SHADERS].count + 1, 1) : NULL;
+    if (scripts && !two) {
+        tool_error_set(err, r->path, 0, "out of memory");
+        return -1;
+    }
+    if (two) two_sided_shaders(r, scripts, two);
     for (uint32_t s = 0; s < r->l[L_SURFACES].count; ++s) {
         const uint8_t *f = rec(r, L_SURFACES, s);
         int32_t shader = rd_i32(f), type = rd_i32(f + 8);
-        if (check_index(r, L_SURFACES, s, "shader", shader, r->l[L_SHADERS].count)) return -1;
+        if (check_index(r, L_SURFACES, s, "shader", shader, r->l[L_SHADERS].count)) goto fail;
         const uint8_t *sh = rec(r, L_SHADERS, (uint32_t)shader);
         uint32_t surface_flags = tool_get32(sh + 64), contents = tool_get32(sh + 68);
         /* a see-through shader (water, fog, glass, grates) names its surface see_through...: drawn, never
            blocking sight, in the mesh and in the OBJ written from it */
         int clear = (contents & CONTENTS_SEE_THROUGH) != 0;
-        snprintf(name, sizeof(name), clear ? "see_through_s%u" : "s%u", s);
-        if (mesh_begin_object(m, name, clear ? MESH_OBJECT_SEE_THROUGH : 0, 0)) {
+        /* with the scripts: a planar opaque surface drawn front only, its triangles turned counter-clockwise */
+        int one = two && !clear && !two[shader] && !(surface_flags & SURF_NODRAW) && planar_clockwise(r, f);
+        snprintf(name, sizeof(name), clear ? "see_through_s%u" : one ? "one_sided_s%u" : "s%u", s);
+        if (mesh_begin_object(m, name, clear ? MESH_OBJECT_SEE_THROUGH : one ? MESH_OBJECT_ONE_SIDED : 0, 0)) {
             tool_error_set(err, r->path, 0, "out of memory");
-            return -1;
+            goto fail;
         }
+        st->one_sided_surfaces += (uint32_t)one;
         st->translucent_surfaces += (uint32_t)clear;
         int rc = 0;
         if (surface_flags & SURF_NODRAW || type == MST_FLARE)
             rc = 0;
         else if (type == MST_PLANAR || type == MST_TRIANGLE_SOUP)
-            rc = add_triangles(r, s, f, m, err);
+            rc = add_triangles(r, s, f, one, m, err);
         else if (type == MST_PATCH) {
             rc = add_patch(r, s, f, level, m, err);
             ++st->patches;
         } else {
             tool_error_set(err, r->path, 0, "surfaces[%u]: unknown surface type %d", s, type);
-            return -1;
+            goto fail;
         }
-        if (rc) return -1;
+        if (rc) goto fail;
         if (m->objects[m->object_count - 1].triangle_count == 0) ++st->empty_surfaces;
     }
     st->surfaces = r->l[L_SURFACES].count;
+    free(two);
     return 0;
+fail:
+    free(two);
+    return -1;
 }
 
 /* ---- brush hulls ---- */
@@ -751,7 +841,7 @@ int bsp_parse(const char *path, const void *data, size_t size, const bsp_options
         tool_error_set(err, path, 0, "clearance %g: not a distance from 0 to 1e6", opt->clearance);
         goto done;
     }
-    if (read_header(&r, (const uint8_t *)data, size) || read_surfaces(&r, level, m, &st, err) ||
+    if (read_header(&r, (const uint8_t *)data, size) || read_surfaces(&r, level, opt ? opt->shaders : NULL, m, &st, err) ||
         read_brushes(&r, m, &st, err) || read_tree(&r, err) || read_cells(&r, opt ? opt->clearance : 0, cells, &st, err))
         goto done;
     if (pvs && read_pvs(&r, m->object_count, st.cells, pvs, &st, err)) goto done;

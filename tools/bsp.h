@@ -31,6 +31,12 @@
    Surfaces whose shader's contents say see-through (water, slime, lava, fog, translucent: glass,
    grates, foliage) are see-through objects (MESH_OBJECT_SEE_THROUGH, named "see_through_sN" so the
    OBJ keeps the flag): drawn, never blocking sight; `bsp_stats.translucent_surfaces` counts them.
+   Given the game's shader scripts (`bsp_options.shaders`), planar opaque surfaces that Quake 3 draws
+   front only (its default; no `cull none`, `disable`, `twosided` or `back`, no `deformVertexes`) and
+   whose triangles all wind clockwise about the surface's normal (Quake's front faces; a few do not) are
+   one-sided (MESH_OBJECT_ONE_SIDED, "one_sided_sN"), written counter-clockwise as the library takes
+   them: a cell behind all of such a surface leaves it out. Patches and triangle meshes (models) stay
+   two-sided: their stored normals do not say which side is drawn.
 
    The reader trusts nothing in the file: every lump, count, index and range is checked, and a bad
    one is an error naming the lump and the record ("PATH: faces[12]: vertex range 90+12 past the 95
@@ -46,10 +52,14 @@ typedef struct bsp_options {
     uint32_t patch_level;     /* quads per side of each 3 x 3 patch block: 0 = 4, at most 32 */
     uint32_t cell_step;       /* keep every cell_step-th cell only (0 or 1: every cell), for quick measurements */
     double clearance;         /* cells keep this far off walls (0: the leaves' boxes; pvsimport's default: 1) */
+    const char *shaders;      /* the game's shader scripts (its .shader files in one text): with them, a planar opaque
+                                 surface whose shader culls back faces (no cull none, disable, twosided, back or
+                                 deformVertexes) and whose triangles all wind as Quake's front faces is one-sided
+                                 (MESH_OBJECT_ONE_SIDED, "one_sided_sN", turned counter-clockwise); NULL: none is */
 } bsp_options;
 
 typedef struct bsp_stats {
-    uint32_t surfaces, patches, empty_surfaces, translucent_surfaces;
+    uint32_t surfaces, patches, empty_surfaces, translucent_surfaces, one_sided_surfaces;
     uint32_t brushes, occluder_brushes, hull_triangles;
     uint32_t leaves, clusters;  /* leaves with a cluster, clusters in the vis data */
     uint32_t cells;             /* cells made: the leaves with a cluster, every cell_step-th */

@@ -27,7 +27,8 @@ static int cli__make_scene(const char *name, const mesh *m, uint32_t up_axis, cl
         obs[i].first_triangle = m->objects[i].first_triangle;
         obs[i].triangle_count = m->objects[i].triangle_count;
         obs[i].flags = ((m->objects[i].flags & MESH_OBJECT_OCCLUDER) ? PVS_OBJECT_OCCLUDER_ONLY : 0u) |
-                       ((m->objects[i].flags & MESH_OBJECT_SEE_THROUGH) ? PVS_OBJECT_SEE_THROUGH : 0u);
+                       ((m->objects[i].flags & MESH_OBJECT_SEE_THROUGH) ? PVS_OBJECT_SEE_THROUGH : 0u) |
+                       ((m->objects[i].flags & MESH_OBJECT_ONE_SIDED) ? PVS_OBJECT_ONE_SIDED : 0u);
     }
     memset(&d, 0, sizeof(d));
     d.positions = m->positions;

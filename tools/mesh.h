@@ -10,6 +10,8 @@
 #define MESH_OBJECT_OCCLUDER 1u    /* blocks sight, never drawn (OBJ name begins with "occluder") */
 #define MESH_OBJECT_SEE_THROUGH 2u /* drawn, never blocks sight (OBJ name begins with "glass", "door" or
                                       "see_through") */
+#define MESH_OBJECT_ONE_SIDED 4u   /* drawn with back faces culled, counter-clockwise front (OBJ name begins with
+                                      "one_sided") */
 
 typedef struct mesh_object {
     char *name;              /* owned, NUL-terminated, never NULL */

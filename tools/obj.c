@@ -165,7 +165,8 @@ static int obj__begin(mesh *m, const char *name, const char *s, const char *e, c
     uint32_t flags = strncmp(copy, "occluder", 8) == 0 ? MESH_OBJECT_OCCLUDER
                      : !strncmp(copy, "glass", 5) || !strncmp(copy, "door", 4) || !strncmp(copy, "see_through", 11)
                          ? MESH_OBJECT_SEE_THROUGH
-                         : 0;
+                     : !strncmp(copy, "one_sided", 9) ? MESH_OBJECT_ONE_SIDED
+                                                      : 0;
     int r = mesh_begin_object(m, copy, flags, (uint32_t)line);
     free(copy);
     if (r) tool_error_set(err, name, line, "out of memory");

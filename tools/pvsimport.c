@@ -21,12 +21,15 @@ static const char *usage =
     "                    never on a wall; a box touching one holds points from which a ray grazes\n"
     "                    into the wall and sees what is drawn on its far side, which the bake must keep\n"
     "  --cell-step N     keep every N-th cell only (in --cells and --pvs alike), for quick measurements\n"
+    "  --shaders FILE    the game's shader scripts (its scripts/NAME.shader in one file): planar surfaces\n"
+    "                    drawn front only become one-sided objects ('one_sided_sN', counter-clockwise):\n"
+    "                    a cell behind all of one leaves it out of its PVS. Without it, all are two-sided\n"
     "  -q, --quiet       no summary\n"
     "  A .pk3 is a zip archive: extract the .bsp first (unzip -p PAK.pk3 maps/NAME.bsp > NAME.bsp).\n"
     "exit status: 0 written, 1 bad input or I/O error, 2 usage\n";
 
 typedef struct import_options {
-    const char *bsp, *obj, *cells, *pvs;
+    const char *bsp, *obj, *cells, *pvs, *shaders;
     uint32_t patch_level, cell_step;
     double clearance;
     int quiet;
@@ -45,6 +48,10 @@ static int parse_options(int argc, char **argv, import_options *o) {
         } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--pvs")) {
             if (!v) return tool_usage_error(TOOL, "%s needs a file name", a);
             *(a[1] == 'o' ? &o->obj : a[2] == 'c' ? &o->cells : &o->pvs) = v;
+            ++i;
+        } else if (!strcmp(a, "--shaders")) {
+            if (!v) return tool_usage_error(TOOL, "--shaders needs a file name");
+            o->shaders = v;
             ++i;
         } else if (!strcmp(a, "--patch-level")) {
             if (!v || cli_parse_u32(v, 1, 32, &o->patch_level))
@@ -123,26 +130,45 @@ int main(int argc, char **argv) {
     bsp_pvs pvs;
     bsp_stats st;
     bsp_options bo;
+    char *scripts = NULL;
     memset(&bo, 0, sizeof(bo));
     bo.patch_level = o.patch_level;
     bo.cell_step = o.cell_step;
     bo.clearance = o.clearance;
+    if (o.shaders) {
+        void *text;
+        size_t n;
+        if (read_file(o.shaders, &text, &n, &err)) {
+            fprintf(stderr, "%s: %s\n", TOOL, err.message);
+            return 1;
+        }
+        scripts = (char *)realloc(text, n + 1); /* as a string */
+        if (!scripts) {
+            free(text);
+            fprintf(stderr, "%s: out of memory\n", TOOL);
+            return 1;
+        }
+        scripts[n] = '\0';
+        bo.shaders = scripts;
+    }
     if (read_file(o.bsp, &data, &size, &err)) {
         fprintf(stderr, "%s: %s\n", TOOL, err.message);
+        free(scripts);
         return 1;
     }
     rc = bsp_parse(o.bsp, data, size, &bo, &m, &cells, o.pvs ? &pvs : NULL, &st, &err);
     free(data);
+    free(scripts);
     if (!rc) rc = write_stream_atomic(o.obj, write_obj, &m, &err);
     if (!rc && o.cells) rc = write_stream_atomic(o.cells, write_cells, &cells, &err);
     if (!rc && o.pvs) rc = write_pvs(o.pvs, &cells, &pvs, &err);
     if (rc) fprintf(stderr, "%s: %s\n", TOOL, err.message);
     else if (!o.quiet)
         fprintf(stderr,
-                "%s: %s: %u surfaces (%u patches, %u without faces, %u see-through), %u triangles; "
+                "%s: %s: %u surfaces (%u patches, %u without faces, %u see-through, %u one-sided), %u triangles; "
                 "%u of %u world brushes solid and opaque (%u hull triangles); %u cells (of %u leaves with a cluster; "
                 "%u faces kept %g off walls), %u clusters, %s\n",
-                TOOL, o.bsp, st.surfaces, st.patches, st.empty_surfaces, st.translucent_surfaces, m.triangle_count,
+                TOOL, o.bsp, st.surfaces, st.patches, st.empty_surfaces, st.translucent_surfaces, st.one_sided_surfaces, m.triangle_count,
                 st.occluder_brushes, st.brushes, st.hull_triangles, st.cells, st.leaves, st.wall_faces, o.clearance,
                 st.clusters,
                 st.has_vis ? "vis data" : "no vis data (its PVS is everything)");

@@ -312,10 +312,11 @@ static int draw_frame(view_data *v, const view_options *o, render_image *fp, uin
         uint32_t col = !in ? RENDER_RGBA(255, 0, 0, 255)
                        : !(ob.max[v->up] - ob.min[v->up] > 0.25f) ? RENDER_RGBA(125, 125, 118, 255)
                        : RENDER_RGBA(170 + (h >> 27), 165 + ((h >> 22) & 31), 140 + ((h >> 17) & 31), 255);
-        render_triangles(fp, &view, v->m.positions, v->m.indices, first, count, col, 0);
+        unsigned front = v->m.objects[i].flags & MESH_OBJECT_ONE_SIDED ? RENDER_FRONT_ONLY : 0u; /* as drawn */
+        render_triangles(fp, &view, v->m.positions, v->m.indices, first, count, col, front);
         /* the same in flat marker colours: which pixels belong to objects outside the PVS */
         render_triangles(&ids, &view, v->m.positions, v->m.indices, first, count, in ? RENDER_RGBA(0, 0, 255, 255) : RENDER_RGBA(255, 0, 0, 255),
-                         RENDER_UNLIT);
+                         RENDER_UNLIT | front);
     }
     *red = 0;
     for (y = 0; y < ids.height; ++y)

@@ -45,6 +45,7 @@ int render_view_init(render_view *v, const pvs_camera *camera, const render_imag
     v->light[1] = 1.0f / l;
     v->light[2] = 0.5f / l;
     v->ambient = 0.35f;
+    memcpy(v->eye, camera->eye, sizeof(v->eye));
     return 0;
 }
 
@@ -150,6 +151,12 @@ uint64_t render_triangles(render_image *im, const render_view *v, const float *p
             d[k] = c[k][3] - c[k][2]; /* >= 0 in front of the near plane */
         }
         if (d[0] < 0.0 && d[1] < 0.0 && d[2] < 0.0) continue;
+        if (flags & RENDER_FRONT_ONLY) {
+            double f = 0.0, a[3], b[3];
+            for (k = 0; k < 3; ++k) a[k] = (double)p[1][k] - p[0][k], b[k] = (double)p[2][k] - p[0][k];
+            for (k = 0; k < 3; ++k) f += (a[(k + 1) % 3] * b[(k + 2) % 3] - a[(k + 2) % 3] * b[(k + 1) % 3]) * ((double)v->eye[k] - p[0][k]);
+            if (!(f > 0.0)) continue;
+        }
         if (!(flags & RENDER_UNLIT)) {
             double ldot;
             for (k = 0; k < 3; ++k) {

@@ -29,6 +29,7 @@ typedef struct render_view {
     float m[16];         /* row-major, pvs_camera_matrix */
     float light[3];      /* unit vector toward the light */
     float ambient;       /* shade = ambient + (1 - ambient) |n . light|; 0 = 0.35 */
+    float eye[3];        /* the camera's (RENDER_FRONT_ONLY) */
 } render_view;
 
 /* Sets up a view of `camera` for image im. Returns 0, or -1 for an unusable camera. */
@@ -46,11 +47,14 @@ int render_project(const render_view *v, const render_image *im, const float p[3
 #define RENDER_NO_DEPTH_WRITE 2u  /* leave the z-buffer as it is */
 #define RENDER_BLEND 4u           /* blend with the colour's alpha instead of overwriting */
 #define RENDER_UNLIT 8u           /* the colour as is, no shading */
+#define RENDER_FRONT_ONLY 16u     /* back faces left out, as an engine draws PVS_OBJECT_ONE_SIDED objects: a triangle
+                                     whose normal (b - a) x (c - a) does not point toward the eye */
 
 /* Draws `count` triangles (indices 3 each into positions, 3 floats per vertex; indices NULL =
-   consecutive vertices) starting at triangle `first`, flat-shaded in `rgba`, two-sided, clipped at
-   the near plane, with the depth test "nearer or equal wins" unless flags say otherwise. Pixel
-   (i, j) is drawn when its centre is inside the triangle. Returns the number of pixels written. */
+   consecutive vertices) starting at triangle `first`, flat-shaded in `rgba`, two-sided (unless
+   RENDER_FRONT_ONLY), clipped at the near plane, with the depth test "nearer or equal wins" unless
+   flags say otherwise. Pixel (i, j) is drawn when its centre is inside the triangle. Returns the
+   number of pixels written. */
 uint64_t render_triangles(render_image *im, const render_view *v, const float *positions, const uint32_t *indices, uint32_t first,
                           uint32_t count, uint32_t rgba, unsigned flags);
 
