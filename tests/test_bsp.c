@@ -215,16 +215,19 @@ static void tb_reads(void) {
     }
     /* the game's shader scripts: the quad's shader culls back faces (no script for it, or one without cull or
        deformVertexes), so it is one-sided, its triangles turned counter-clockwise about its normal (Y up +y); cull
-       none, disable, twosided or back, or deformVertexes (autosprites face the eye), keep it two-sided */
+       none, disable, twosided or back, deformVertexes (autosprites face the eye), portal, skyparms or the sky's surface
+       flag keep it two-sided */
     {
         static const char *const scripts[] = {
             "// nothing about it\ntextures/other { cull none }\n", "textures/WALL\n{\n\tsurfaceparm nomarks\n\t{ map $lightmap }\n}\n",
             "/* { */ textures/wall { cull disable }", "textures/wall {\n deformVertexes autosprite\n}",
-            "textures/wall { cull twosided } textures/wall { }", "textures/wall{cull back}"};
+            "textures/wall { cull twosided } textures/wall { }", "textures/wall{cull back}", "textures/wall { portal }",
+            "textures/wall\n{\n\tskyparms - 512 -\n}\n", NULL};
         bsp_options o;
         memset(&o, 0, sizeof(o));
-        for (uint32_t k = 0; k < 6; ++k) {
-            o.shaders = scripts[k];
+        for (uint32_t k = 0; k < 9; ++k) {
+            o.shaders = scripts[k < 8 ? k : 1];
+            if (k == 8) tb_put32(t.bytes + t.at[1] + 64, 4); /* the sky by its surface flags */
             CHECK(bsp_parse("t.bsp", t.bytes, t.size, &o, &m, &c, NULL, &st, &err) == 0);
             const uint32_t *q = m.indices + 3 * m.objects[0].first_triangle;
             const float *a = m.positions + 3 * q[0], *b = m.positions + 3 * q[1], *d = m.positions + 3 * q[2];
@@ -236,6 +239,7 @@ static void tb_reads(void) {
             mesh_free(&m);
             mesh_cells_free(&c);
         }
+        tb_put32(t.bytes + t.at[1] + 64, 0);
     }
     /* without vis data every cell sees everything; a water brush does not block */
     t.len[16] = 0;

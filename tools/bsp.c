@@ -20,6 +20,7 @@ enum { MST_PLANAR = 1, MST_PATCH = 2, MST_TRIANGLE_SOUP = 3, MST_FLARE = 4 };
 #define CONTENTS_SOLID 1u
 #define CONTENTS_SEE_THROUGH (8u | 16u | 32u | 64u | 0x20000000u) /* lava slime water fog translucent */
 #define SURF_NODRAW 0x80u
+#define SURF_SKY 0x4u
 #define BSP_LIFT 0.01 /* game units a planar surface is lifted off its brush face, along its normal: the hulls stay
                         exact (touching brushes leave no crack) and never hide the surface drawn on them */
 #define BSP_WELD 1e-3 /* a brush's corners closer than this are one vertex (one plane triple, rounded apart) */
@@ -242,7 +243,7 @@ static size_t script_token(const char **p, const char **tok) {
 }
 
 /* two[i] = 1 if a definition of the level's shader i in `scripts` draws both faces (cull none, disable, twosided or
-   back: only back faces) or moves its vertices (deformVertexes: autosprites turn to the eye). */
+   back: only back faces), moves its vertices (deformVertexes), is a portal or the sky (skyparms): never one-sided. */
 static void two_sided_shaders(const bsp_reader *r, const char *scripts, uint8_t *two) {
     const char *p = scripts, *t, *name = NULL;
     size_t n, name_n = 0;
@@ -262,7 +263,9 @@ static void two_sided_shaders(const bsp_reader *r, const char *scripts, uint8_t 
             if (cull)
                 both |= (n == 4 && (same_nocase(t, "none", 4) || same_nocase(t, "back", 4))) ||
                         (n == 7 && same_nocase(t, "disable", 7)) || (n == 8 && same_nocase(t, "twosided", 8));
-            if (n == 14 && same_nocase(t, "deformvertexes", n)) both = 1;
+            if ((n == 14 && same_nocase(t, "deformvertexes", n)) || (n == 6 && same_nocase(t, "portal", n)) ||
+                (n == 8 && same_nocase(t, "skyparms", n)))
+                both = 1; /* moved vertices (autosprites face the eye), a view through it, the sky */
         }
         cull = depth > 0 && *t != '{' && *t != '}' && n == 4 && same_nocase(t, "cull", 4);
     }
@@ -308,7 +311,7 @@ static int read_surfaces(const bsp_reader *r, uint32_t level, const char *script
            blocking sight, in the mesh and in the OBJ written from it */
         int clear = (contents & CONTENTS_SEE_THROUGH) != 0;
         /* with the scripts: a planar opaque surface drawn front only, its triangles turned counter-clockwise */
-        int one = two && !clear && !two[shader] && !(surface_flags & SURF_NODRAW) && planar_clockwise(r, f);
+        int one = two && !clear && !two[shader] && !(surface_flags & (SURF_NODRAW | SURF_SKY)) && planar_clockwise(r, f);
         snprintf(name, sizeof(name), clear ? "see_through_s%u" : one ? "one_sided_s%u" : "s%u", s);
         if (mesh_begin_object(m, name, clear ? MESH_OBJECT_SEE_THROUGH : one ? MESH_OBJECT_ONE_SIDED : 0, 0)) {
             tool_error_set(err, r->path, 0, "out of memory");

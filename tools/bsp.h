@@ -32,11 +32,11 @@
    grates, foliage) are see-through objects (MESH_OBJECT_SEE_THROUGH, named "see_through_sN" so the
    OBJ keeps the flag): drawn, never blocking sight; `bsp_stats.translucent_surfaces` counts them.
    Given the game's shader scripts (`bsp_options.shaders`), planar opaque surfaces that Quake 3 draws
-   front only (its default; no `cull none`, `disable`, `twosided` or `back`, no `deformVertexes`) and
-   whose triangles all wind clockwise about the surface's normal (Quake's front faces; a few do not) are
-   one-sided (MESH_OBJECT_ONE_SIDED, "one_sided_sN"), written counter-clockwise as the library takes
-   them: a cell behind all of such a surface leaves it out. Patches and triangle meshes (models) stay
-   two-sided: their stored normals do not say which side is drawn.
+   front only (its default; no `cull none`, `disable`, `twosided` or `back`, no `deformVertexes`,
+   `portal` or sky) and whose triangles all wind clockwise about the surface's normal (Quake's front
+   faces; a few do not) are one-sided (MESH_OBJECT_ONE_SIDED, "one_sided_sN"), written counter-clockwise
+   as the library takes them: a cell behind all of such a surface leaves it out. Patches and triangle
+   meshes (models) stay two-sided: their stored normals do not say which side is drawn.
 
    The reader trusts nothing in the file: every lump, count, index and range is checked, and a bad
    one is an error naming the lump and the record ("PATH: faces[12]: vertex range 90+12 past the 95
