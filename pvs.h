@@ -1523,6 +1523,16 @@ PVS__STATIC void pvs__bufs_free(const pvs_allocator *a, const pvs__buf *b, int k
 #define PVS__ZERO(x) memset(&(x), 0, sizeof(x))
 
 /* ---- math (private names: none leak into engine) */
+/* n = (b - a) x (c - a) in double (a triangle's normal, counter-clockwise front); returns |n|. */
+PVS__STATIC double pvs__tri_cross(const float *a, const float *b, const float *c, double n[3]) {
+	double e1[3], e2[3];
+	int k;
+	PVS__FOR3(k) { e1[k] = (double)b[k] - a[k]; e2[k] = (double)c[k] - a[k]; }
+	n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+	n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+	n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+	return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
 
 typedef struct pvs__v3 {
 	float x, y, z;
@@ -3281,15 +3291,11 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 	return rc.triangle != 0xffffffffu;
 }
 
-/* Triangle t's normal (b - a) x (c - a), in double from its floats; returns its object. */
+/* Scene triangle t's pvs__tri_cross; returns its object. */
 PVS__STATIC uint32_t pvs__tri_normal(const pvs_scene *s, uint32_t t, double n[3]) {
 	const uint32_t *q = s->indices + 3 * (size_t)t;
-	const float *a = s->positions + 3 * (size_t)q[0], *b = s->positions + 3 * (size_t)q[1],
-				*c = s->positions + 3 * (size_t)q[2];
-	double e[3], f[3];
-	int k;
-	PVS__FOR3(k) e[k] = (double)b[k] - a[k], f[k] = (double)c[k] - a[k];
-	n[0] = e[1] * f[2] - e[2] * f[1], n[1] = e[2] * f[0] - e[0] * f[2], n[2] = e[0] * f[1] - e[1] * f[0];
+	const float *p = s->positions;
+	pvs__tri_cross(p + 3 * (size_t)q[0], p + 3 * (size_t)q[1], p + 3 * (size_t)q[2], n);
 	return s->triangle_object[t];
 }
 /* 1 unless t's object is one-sided (PVS_OBJECT_ONE_SIDED) and ray dir meets t from behind or edge on: nothing drawn. */
@@ -17427,16 +17433,6 @@ PVS__STATIC int pvs__ep_frame_max(const pvs_extproj_plane *pl, uint32_t max_side
 
 PVS__STATIC int pvs__ep_frame(const pvs_extproj_plane *pl, pvs__epframe *f) { return pvs__ep_frame_max(pl, 4096u, f); }
 
-PVS__STATIC double pvs__ep_tri_normal(const float *a, const float *b, const float *c, double n[3]) {
-	double e1[3], e2[3];
-	int k;
-	PVS__FOR3(k) { e1[k] = (double)b[k] - a[k]; e2[k] = (double)c[k] - a[k]; }
-	n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-	n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-	n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-	return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-}
-
 /* n . (x - a) in double: x's distance from plane through a, times |n|. */
 PVS__STATIC double pvs__ep_plane_dist(const double *n, const float *x, const float *a) {
 	return n[0] * ((double)x[0] - a[0]) + n[1] * ((double)x[1] - a[1]) + n[2] * ((double)x[2] - a[2]);
@@ -17732,7 +17728,7 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
 		double n[3], len = 0.0, scale = 0.0;
 		pvs_box b = pvs__box_empty();
 		for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
-		for (i = 2; i < count && !(len > 0.0); ++i) len = pvs__ep_tri_normal(points, points + 3, points + 3 * i, n);
+		for (i = 2; i < count && !(len > 0.0); ++i) len = pvs__tri_cross(points, points + 3, points + 3 * i, n);
 		PVS__FOR3(i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
 		if (!(len > 0.0)) return 0;
 		for (i = 0; i < count && !solid; ++i) {
@@ -17971,7 +17967,7 @@ PVS__STATIC int pvs__ep_same(const float *a, const float *b) { return a[0] == b[
 /* 1 if edge-sharing triangles, coplanar to float precision, form convex quad q[4]; *slack: 4th point to A's plane. */
 PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q, double *slack) {
 	int i, j, k;
-	double n[3], len = pvs__ep_tri_normal(A[0], A[1], A[2], n), scale = 0.0;
+	double n[3], len = pvs__tri_cross(A[0], A[1], A[2], n), scale = 0.0;
 	if (!(len > 0.0)) return 0;
 	PVS__FOR3(i)
 		PVS__FOR3(j) {
@@ -17991,7 +17987,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 			for (k = 0; k < 4; ++k) { /* strictly convex at each corner, turning as triangle */
 				const float *p0 = q[k], *p1 = q[(k + 1) % 4], *p2 = q[(k + 2) % 4];
 				double m[3];
-				pvs__ep_tri_normal(p0, p1, p2, m);
+				pvs__tri_cross(p0, p1, p2, m);
 				if (!(m[0] * n[0] + m[1] * n[1] + m[2] * n[2] > 0.0)) return 0;
 			}
 			*slack = dev == 0.0 ? 0.0 : 2.0 * dev + 1e-12 * scale;
@@ -18242,7 +18238,7 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
 		const float *c[3];
 		double nrm[3], len, lo = 0.0, hi = 0.0;
 		PVS__FOR3(k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
-		len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+		len = pvs__tri_cross(c[0], c[1], c[2], nrm);
 		if (!(len > 0.0)) return 0;
 		for (i = 0; i < n; ++i) {
 			double d = pvs__ep_plane_dist(nrm, pts[i], c[0]) / len;
@@ -18267,14 +18263,14 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
 		const float *c[3];
 		double l;
 		PVS__FOR3(k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
-		l = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+		l = pvs__tri_cross(c[0], c[1], c[2], nrm);
 		if (l > bl) { bl = l; best = t; }
 	}
 	if (!(bl > 0.0)) return 1;
 	{
 		const float *c[3];
 		PVS__FOR3(k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[best] + k];
-		bl = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+		bl = pvs__tri_cross(c[0], c[1], c[2], nrm);
 		c0 = c[0];
 	}
 	for (i = 0; i < n; ++i)
@@ -18316,7 +18312,7 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
 								 double scale) {
 	double nb[3];
 	int k;
-	if (!(pvs__ep_tri_normal(B[0], B[1], B[2], nb) > 0.0) || !(na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.0))
+	if (!(pvs__tri_cross(B[0], B[1], B[2], nb) > 0.0) || !(na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.0))
 		return 0;
 	PVS__FOR3(k) {
 		double d = pvs__ep_plane_dist(na, B[k], A[0]) / la;
@@ -18427,7 +18423,7 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 				const float *A[3], *B[3];
 				double na[3], la;
 				PVS__FOR3(m) { A[m] = PVS__EP_TRI(ja, m); B[m] = PVS__EP_TRI(jb, m); }
-				la = pvs__ep_tri_normal(A[0], A[1], A[2], na);
+				la = pvs__tri_cross(A[0], A[1], A[2], na);
 				if (!(la > 0.0) || !pvs__ep_coplanar(A, na, la, B, scale) || !pvs__ep_coplanar(B, na, la, A, scale))
 					continue;
 				{
@@ -18497,10 +18493,10 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
 		uint32_t i1, i2, b1 = 1, b2 = 2;
 		for (i1 = 1; i1 < k; ++i1)
 			for (i2 = i1 + 1; i2 < k; ++i2) {
-				double l = pvs__ep_tri_normal(q3[0], q3[i1], q3[i2], nb);
+				double l = pvs__tri_cross(q3[0], q3[i1], q3[i2], nb);
 				if (l > best) { best = l; b1 = i1; b2 = i2; }
 			}
-		lb = pvs__ep_tri_normal(q3[0], q3[b1], q3[b2], nb);
+		lb = pvs__tri_cross(q3[0], q3[b1], q3[b2], nb);
 		if (lb > 0.0 && nb[0] * nr[0] + nb[1] * nr[1] + nb[2] * nr[2] > 0.0) {
 			for (h = m; h < m + cnt; ++h) {
 				uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
@@ -18547,7 +18543,7 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
 		g = h;
 		if (cnt < 2) continue;
 		PVS__FOR3(k) A[k] = PVS__EP_TRI(root, k);
-		lr = pvs__ep_tri_normal(A[0], A[1], A[2], nr);
+		lr = pvs__tri_cross(A[0], A[1], A[2], nr);
 		if (!(lr > 0.0)) continue;
 		for (k = 1; k < 3; ++k)
 			if (pvs__dabs(nr[k]) > pvs__dabs(nr[ax])) ax = k;
@@ -18631,7 +18627,7 @@ PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scen
 		double nrm[3];
 		if (w->used[j]) continue;
 		PVS__FOR3(k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
-		if (!(pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
+		if (!(pvs__tri_cross(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
 		if (j + 1 < n && !w->used[j + 1]) {
 			double slack;
 			PVS__FOR3(k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
@@ -18741,7 +18737,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 		const float *c3[3];
 		double nrm[3];
 		PVS__FOR3(k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
-		if (!(pvs__ep_tri_normal(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
+		if (!(pvs__tri_cross(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
 	}
 	if (j < n || (!closed && !capped)) return PVS_OK;
 	return pvs__ep_add_slice(p, s, t0, tl, n, w, bnd, nb, capped, cap_axis, cap_side, cap_value);
@@ -18993,7 +18989,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
 					*v2 = s->positions + 3 * (size_t)ix[2];
 		int k;
 		double n[3];
-		if (!(pvs__ep_tri_normal(v0, v1, v2, n) > 0.0)) continue;
+		if (!(pvs__tri_cross(v0, v1, v2, n) > 0.0)) continue;
 		k = pvs__ep_flat_axis(s, t);
 		if (k < 0) continue;
 		key[nkey].value = v0[k] == 0.0f ? 0.0f : v0[k]; /* -0 and +0 group together */

@@ -330,6 +330,13 @@ static void tb_tool(void) {
     CHECK(test_run("bsp-test", "./pvsimport bsp-test/t.bsp -o x.obj --clearance -1", &out) == 2 &&
           strstr(out, "--clearance takes a distance"));
     free(out);
+    /* shader scripts: a missing file is bad input naming it (nothing written), no file name a usage error */
+    CHECK(test_run("bsp-test", "./pvsimport bsp-test/t.bsp -o bsp-test/s.obj --shaders bsp-test/none.shader", &out) == 1 &&
+          strstr(out, "none.shader"));
+    free(out);
+    CHECK(!test_exists("bsp-test/s.obj"));
+    CHECK(test_run("bsp-test", "./pvsimport bsp-test/t.bsp -o x.obj --shaders", &out) == 2 && strstr(out, "--shaders"));
+    free(out);
     CHECK(test_run("bsp-test", "./pvsinfo --dump bsp-test/t.pvs", &out) == 0);
     CHECK(strstr(out, "0: 0 1\n") && strstr(out, "1: 0 1 2\n"));
     free(out);
