@@ -61,7 +61,7 @@ static void test_one_sided(void) {
     memset(obs, 0, sizeof(obs));
     for (k = 0; k < 4; ++k) { /* ground (y = 0, facing up), then the quads: (x, 0, a) (x, 3, a) (x, 3, b) (x, 0, b) */
         float a = k ? q[k - 1][q[k - 1][3] > 0 ? 1 : 2] : 0, b = k ? q[k - 1][q[k - 1][3] > 0 ? 2 : 1] : 0;
-        const float ground[12] = {-30, 0, 30, 30, 0, 30, 30, 0, -30, -30, 0, -30};
+        const float ground[12] = {-10, 0, 10, 10, 0, 10, 10, 0, -10, -10, 0, -10};
         float quad[12] = {0, 0, 0, 0, 3, 0, 0, 3, 0, 0, 0, 0};
         uint32_t j;
         for (j = 0; j < 4; ++j) quad[3 * j] = k ? q[k - 1][0] : 0, quad[3 * j + 2] = j < 2 ? a : b;
