@@ -151,21 +151,18 @@ uint64_t render_triangles(render_image *im, const render_view *v, const float *p
             d[k] = c[k][3] - c[k][2]; /* >= 0 in front of the near plane */
         }
         if (d[0] < 0.0 && d[1] < 0.0 && d[2] < 0.0) continue;
-        if (flags & RENDER_FRONT_ONLY) {
-            double f = 0.0, a[3], b[3];
-            for (k = 0; k < 3; ++k) a[k] = (double)p[1][k] - p[0][k], b[k] = (double)p[2][k] - p[0][k];
-            for (k = 0; k < 3; ++k) f += (a[(k + 1) % 3] * b[(k + 2) % 3] - a[(k + 2) % 3] * b[(k + 1) % 3]) * ((double)v->eye[k] - p[0][k]);
-            if (!(f > 0.0)) continue;
+        for (k = 0; k < 3; ++k) {
+            e1[k] = (double)p[1][k] - p[0][k];
+            e2[k] = (double)p[2][k] - p[0][k];
         }
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        if ((flags & RENDER_FRONT_ONLY) && !(n[0] * ((double)v->eye[0] - p[0][0]) + n[1] * ((double)v->eye[1] - p[0][1]) +
+                                            n[2] * ((double)v->eye[2] - p[0][2]) > 0.0))
+            continue; /* faces away from the eye */
         if (!(flags & RENDER_UNLIT)) {
             double ldot;
-            for (k = 0; k < 3; ++k) {
-                e1[k] = (double)p[1][k] - p[0][k];
-                e2[k] = (double)p[2][k] - p[0][k];
-            }
-            n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-            n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-            n[2] = e1[0] * e2[1] - e1[1] * e2[0];
             len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
             if (!(len > 0.0)) continue;
             ldot = fabs((n[0] * v->light[0] + n[1] * v->light[1] + n[2] * v->light[2]) / len);
