@@ -22739,18 +22739,18 @@ PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint
 	const uint16_t *prob = learn ? learn : f->private_.prob;
 	for (k = 0; k < 4; ++k) x = (x << 8) | (p < end ? *p++ : 0u);
 /* pvs__ac_bit's decoder in registers: y = bit in context ctx */
-#define PVS__AC_GET()                                                                                                  \
-	do {                                                                                                               \
-		mid = x1 + (uint32_t)(((uint64_t)(x2 - x1) * prob[ctx]) >> 12);                                                \
-		y = x <= mid;                                                                                                  \
-		if (y) x2 = mid;                                                                                               \
-		else x1 = mid + 1u;                                                                                            \
-		if (learn) learn[ctx] = PVS__ADAPT(learn[ctx], y);                                                             \
-		while (!((x1 ^ x2) >> 24)) {                                                                                   \
-			x = (x << 8) | (p < end ? *p++ : 0u);                                                                      \
-			x1 <<= 8;                                                                                                  \
-			x2 = (x2 << 8) | 255u;                                                                                     \
-		}                                                                                                              \
+#define PVS__AC_GET() \
+	do { \
+		mid = x1 + (uint32_t)(((uint64_t)(x2 - x1) * prob[ctx]) >> 12); \
+		y = x <= mid; \
+		if (y) x2 = mid; \
+		else x1 = mid + 1u; \
+		if (learn) learn[ctx] = PVS__ADAPT(learn[ctx], y); \
+		while (!((x1 ^ x2) >> 24)) { \
+			x = (x << 8) | (p < end ? *p++ : 0u); \
+			x1 <<= 8; \
+			x2 = (x2 << 8) | 255u; \
+		} \
 	} while (0)
 	on = pvs__order_at(f, 0);
 	for (w = 0; w < words; ++w) {
@@ -24316,13 +24316,13 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 }
 
 /* pvs__cell_value written out for look-up's inner loop (GCC leaves call in a unit this size). */
-#define PVS__CELL_V(f, k, i)                                                                              \
-	((f)->private_.value_bits[k] == 255u ? pvs__getf32((f)->private_.values[k] + 4 * (size_t)(i))         \
-	 : (f)->private_.value_step[k] != 0.0f                                                                \
-		 ? (float)((f)->private_.value_base[k] + (int32_t)((f)->private_.values[k][2 * (size_t)(i)] |      \
+#define PVS__CELL_V(f, k, i) \
+	((f)->private_.value_bits[k] == 255u ? pvs__getf32((f)->private_.values[k] + 4 * (size_t)(i)) \
+	 : (f)->private_.value_step[k] != 0.0f \
+		 ? (float)((f)->private_.value_base[k] + (int32_t)((f)->private_.values[k][2 * (size_t)(i)] | \
 														   (uint32_t)(f)->private_.values[k][2 * (size_t)(i) + 1] \
-															   << 8)) *                                  \
-			   (f)->private_.value_step[k]                                                                \
+															   << 8)) * \
+			   (f)->private_.value_step[k] \
 		 : pvs__cell_value(f, k, i))
 
 /* Look-up's inner loop, pvs__cell_indices' fast path inlined: cell c's closed box holds p. */
