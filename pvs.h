@@ -1,4 +1,4 @@
-/* pvs.h - v0.12.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.13.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -139,11 +139,10 @@
    FILE FORMAT (version 3; the byte layout, rule by rule with each rule's error code: README.md, "The file")
    ===========
    The delta-PVS of Durand et al. 2000 (§6.2): key cells store their PVS whole, others what differs from a base cell,
-   chains bounded by K. Little-endian: a 32-byte header, a table of CRC-checked sections: META, CELL (boxes), TREE
-   (look-up), RECS (records: each bit arithmetic-coded in a context of base's bits and its neighbours), MODL (the
-   contexts' probabilities, an object order putting objects seen together side by side); optional SHRD, VOCC, SCNE,
-   NAME. Readers skip unknown tags; pvs_file_open checks every rule in linear time. Version 1, 2 files: BAD_VERSION,
-   re-bake.
+   chains bounded by K. Little-endian: a 32-byte header, CRC-checked sections: META, CELL (boxes), TREE (look-up; both
+   absent with PVS_FILE_NO_LOOKUP), RECS (each bit arithmetic-coded in a context of base's bits and neighbours), MODL
+   (contexts' probabilities, an object order putting objects seen together side by side); optional SHRD, VOCC, SCNE,
+   NAME. Readers skip unknown tags; pvs_file_open checks every rule in linear time. Version 1, 2: BAD_VERSION, re-bake.
 
    HISTORY: at the end (the latest; every release: README.md, "History").
 */
@@ -155,7 +154,7 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 12
+#define PVS_VERSION_MINOR 13
 #define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
@@ -1097,6 +1096,8 @@ typedef struct pvs_bake_desc {
    grows with PVS sizes; also chosen if table would exceed PVS_BAKE_COMPACT_BYTES. Files byte-identical either way;
    pvs_bake_cell_pvs then decodes into one bake buffer. */
 #define PVS_BAKE_COMPACT 2u
+/* PVS_BAKE_NO_LOOKUP: file flagged PVS_FILE_NO_LOOKUP; not with VOCC or shards. */
+#define PVS_BAKE_NO_LOOKUP 4u
 #ifndef PVS_BAKE_COMPACT_BYTES
 #define PVS_BAKE_COMPACT_BYTES ((size_t)64 << 20)
 #endif
@@ -1194,6 +1195,9 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 /* ---- format */
 
 #define PVS_FILE_APPROXIMATE 1u /* file flag: estimated (SAMPLE), not conservative */
+/* File flag: no CELL, TREE (engine finds its cells itself, e.g. BSP leaves): pvs_file_find_cell gives PVS_NO_CELL,
+   pvs_file_cell_box an empty box; no VOCC. Encoder still takes cells (bases: neighbours). */
+#define PVS_FILE_NO_LOOKUP 2u
 
 #define PVS_DEFAULT_CHAIN 16u	/* default bound K on cell's delta chain */
 #define PVS_MAX_CHAIN 64u /* largest K a file may declare */
@@ -1306,9 +1310,9 @@ PVS_API const char *pvs_file_object_name(const pvs_file *file, uint32_t object);
 PVS_API uint32_t pvs_file_find_object(const pvs_file *file, const char *name);
 
 #define PVS_NO_CELL 0xffffffffu
-/* Lowest cell whose closed box contains p, or PVS_NO_CELL (also non-finite p). No allocation. */
+/* Lowest cell whose closed box contains p, or PVS_NO_CELL (also non-finite p, PVS_FILE_NO_LOOKUP). No allocation. */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
-/* Box of cell (< cell_count). */
+/* Box of cell (< cell_count); with PVS_FILE_NO_LOOKUP empty (min FLT_MAX, max -FLT_MAX). */
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
 /* Decodes cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): chain's key, then
    <= max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
@@ -21900,8 +21904,9 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 		return PVS__BAD_ARG(err, "eps must be finite and >= 0");
 	if (!pvs__finite(desc->max_distance) || desc->max_distance < 0.0f)
 		return PVS__BAD_ARG(err, "max_distance must be finite and >= 0");
-	if (desc->flags & ~(PVS_BAKE_PREVIEW | PVS_BAKE_COMPACT))
-		return PVS__BAD_ARG(err, "unknown bake flags 0x%x", desc->flags);
+	if (desc->flags & ~(PVS_BAKE_PREVIEW | PVS_BAKE_COMPACT | PVS_BAKE_NO_LOOKUP) ||
+		((desc->flags & PVS_BAKE_NO_LOOKUP) && (method == PVS_METHOD_VOCC || desc->shard_count > 1)))
+		return PVS__BAD_ARG(err, "bake flags 0x%x: unknown, or no look-up with vocc or shards", desc->flags);
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) {
 		const pvs__bake_method *m = pvs__bake_methods[k];
 		if (m->check && (r = m->check(desc, err)) != PVS_OK) return r;
@@ -22517,7 +22522,8 @@ PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
 	fd->method = b->method;
 	fd->eps = b->env.eps;
 	fd->up_axis = pvs_scene_up_axis(b->env.scene);
-	fd->flags = b->run[0]->traits & PVS__METHOD_APPROXIMATE ? PVS_FILE_APPROXIMATE : 0u;
+	fd->flags = (b->run[0]->traits & PVS__METHOD_APPROXIMATE ? PVS_FILE_APPROXIMATE : 0u) |
+		(b->env.flags & PVS_BAKE_NO_LOOKUP ? PVS_FILE_NO_LOOKUP : 0u);
 	fd->max_chain = b->max_chain;
 	fd->shard_index = b->shard_index;
 	fd->shard_count = b->shard_count;
@@ -23397,6 +23403,8 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 		r = pvs__check_cell(d->cells + i, i, err);
 		if (r != PVS_OK) return r;
 	}
+	if (d->flags & ~(PVS_FILE_APPROXIMATE | PVS_FILE_NO_LOOKUP) || (d->vocc_counts && d->flags & PVS_FILE_NO_LOOKUP))
+		return PVS__BAD_ARG(err, "file flags 0x%x: unknown, or no look-up with virtual occluders", d->flags);
 	if (d->vocc_counts) { /* optional VOCC section (>>vocc) */
 		uint64_t n = 0;
 		for (i = 0; i < d->cell_count; ++i) n += d->vocc_counts[i];
@@ -23653,7 +23661,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	pvs_result r;
 	uint32_t i, k, max_chain = 0, sections, keys = 0;
 	size_t at[9], sz[9], total, cell_bytes = 0, recs_size, vocc_size = 0, names_size, plain = 0, ordered = 0;
-	uint32_t tags[9], k_vocc = 0, k_scne = 0, k_name = 0;
+	uint32_t tags[9], k_vocc = 0, k_scne = 0, k_name = 0, k_recs;
 	uint8_t *o = (uint8_t *)out;
 	if (out_size) *out_size = 0;
 	r = pvs__encode_check(d, &max_chain, &vocc_size, err);
@@ -23692,7 +23700,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;
 	recs_size = pvs__encoder_records(&e, NULL);
 
-	/* sections in manual's order, 8-aligned */
+	/* sections in manual's order, 8-aligned; without look-up, CELL and TREE none */
 	sections = d->shard_count ? 6u : 5u;
 	tags[0] = PVS__TAG_META; sz[0] = PVS__META_SIZE;
 	tags[1] = PVS__TAG_CELL; sz[1] = cell_bytes;
@@ -23700,6 +23708,12 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	tags[3] = PVS__TAG_RECS; sz[3] = recs_size;
 	tags[4] = PVS__TAG_MODL; sz[4] = pvs__encoder_model_size(&e);
 	tags[5] = PVS__TAG_SHRD; sz[5] = PVS__SHRD_SIZE;
+	if (d->flags & PVS_FILE_NO_LOOKUP) {
+		memmove(tags + 1, tags + 3, 3 * sizeof(uint32_t));
+		memmove(sz + 1, sz + 3, 3 * sizeof(size_t));
+		sections -= 2;
+	}
+	k_recs = sections - (d->shard_count ? 3u : 2u);
 	if (d->vocc_counts) {
 		tags[k_vocc = sections] = PVS__VO_TAG;
 		sz[sections++] = vocc_size;
@@ -23742,13 +23756,15 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 		pvs__put32(m + 20, max_chain);
 		pvs__put32(m + 24, keys);
 	}
-	pvs__encoder_write_cells(&e, o + at[1]);
-	pvs__put32(o + at[2], e.tree_depth);
-	pvs__put32(o + at[2] + 4, e.tree_offset_bits);
-	memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
-	(void)pvs__encoder_records(&e, o + at[3]);
+	if (k_recs == 3) {
+		pvs__encoder_write_cells(&e, o + at[1]);
+		pvs__put32(o + at[2], e.tree_depth);
+		pvs__put32(o + at[2] + 4, e.tree_offset_bits);
+		memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
+	}
+	(void)pvs__encoder_records(&e, o + at[k_recs]);
 	{
-		uint8_t *m = o + at[4];
+		uint8_t *m = o + at[k_recs + 1];
 		pvs__put32(m, PVS__CTX_COUNT);
 		pvs__put32(m + 4, e.order_bits);
 		for (k = 0; k < PVS__CTX_COUNT; ++k) {
@@ -23759,7 +23775,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 			pvs__put_bits(m + PVS__MODL_HEAD, (uint64_t)i * e.order_bits, e.order[i], e.order_bits);
 	}
 	if (d->shard_count) {
-		uint8_t *s = o + at[5];
+		uint8_t *s = o + at[k_recs + 2];
 		pvs__put32(s + 0, d->shard_index);
 		pvs__put32(s + 4, d->shard_count);
 		pvs__put32(s + 8, d->total_cell_count);
@@ -24220,7 +24236,7 @@ PVS__STATIC pvs_result pvs__open_names(pvs_file *f, const uint8_t *p, const uint
 
 PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs_error *err) {
 	const uint8_t *p = (const uint8_t *)data;
-	uint32_t count = 0;
+	uint32_t count = 0, nol;
 	pvs__open_sections sec;
 	pvs_result r;
 	if (!f) return PVS__BAD_ARG(err, "file must not be NULL");
@@ -24233,9 +24249,12 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 	if (r != PVS_OK) return r;
 	r = pvs__open_padding(p, size, count, err);
 	if (r != PVS_OK) return r;
-	if (!sec.meta || !sec.cells || !sec.tree || !sec.recs || !sec.modl)
+	nol = pvs__get32(p + 16) & PVS_FILE_NO_LOOKUP;
+	if (!sec.meta || (!sec.cells && !nol) || (!sec.tree && !nol) || !sec.recs || !sec.modl)
 		return PVS__FAIL(err, PVS_ERROR_BAD_SECTION, "missing required section %s",
 						 !sec.meta ? "META" : !sec.cells ? "CELL" : !sec.tree ? "TREE" : !sec.recs ? "RECS" : "MODL");
+	if (nol && (sec.cells || sec.tree || sec.vocc))
+		return PVS__FAIL(err, PVS_ERROR_BAD_SECTION, "no look-up (flag 2), yet a CELL, TREE or VOCC section");
 	r = pvs__open_meta(f, p, sec.meta, sec.meta_size, err);
 	if (r != PVS_OK) return r;
 	if (sec.shrd) {
@@ -24249,8 +24268,8 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 	f->private_.block_count = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK;
 	r = pvs__open_records(f, p, sec.recs, sec.recs_size, err);
 	if (r == PVS_OK) r = pvs__open_model(f, p, sec.modl, sec.modl_size, err);
-	if (r == PVS_OK) r = pvs__open_cells(f, p, sec.cells, sec.cells_size, err);
-	if (r == PVS_OK) r = pvs__open_tree(f, p, sec.tree, sec.tree_size, err);
+	if (r == PVS_OK && !nol) r = pvs__open_cells(f, p, sec.cells, sec.cells_size, err);
+	if (r == PVS_OK && !nol) r = pvs__open_tree(f, p, sec.tree, sec.tree_size, err);
 	if (r == PVS_OK && sec.vocc) r = pvs__vo_open_section(f, p, sec.vocc, sec.vocc_size, err);
 	if (r == PVS_OK && sec.scne) {
 		f->scene_fingerprint = sec.scne_size == 8 ? pvs__get32(sec.scne) | (uint64_t)pvs__get32(sec.scne + 4) << 32 : 0;
@@ -24307,6 +24326,10 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 	uint32_t idx[6];
 	int k;
 	PVS_ASSERT(cell < f->cell_count);
+	if (!f->private_.tree) { /* PVS_FILE_NO_LOOKUP */
+		PVS__FOR3(k) b.min[k] = FLT_MAX, b.max[k] = -FLT_MAX;
+		return b;
+	}
 	pvs__cell_indices(f, cell, idx);
 	PVS__FOR3(k) {
 		b.min[k] = pvs__cell_value(f, (uint32_t)k, idx[k]);
@@ -24368,7 +24391,8 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
 	uint32_t stack[PVS__TREE_MAX_DEPTH + 1], depth = 0, best = PVS_NO_CELL, k = 0, d, inner, ow;
 	const uint8_t *nodes, *starts, *axes, *items;
 	float p0, p1, p2;
-	if (!f || !p || !f->data || !pvs__finite(p[0]) || !pvs__finite(p[1]) || !pvs__finite(p[2])) return PVS_NO_CELL;
+	if (!f || !p || !f->private_.tree || !pvs__finite(p[0]) || !pvs__finite(p[1]) || !pvs__finite(p[2]))
+		return PVS_NO_CELL;
 	p0 = p[0];
 	p1 = p[1];
 	p2 = p[2];
@@ -24523,7 +24547,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.12.0 (2026-11-30) scene: PVS_OBJECT_ONE_SIDED (no cell's PVS holds an object facing away from all of it).
+   0.13.0 (2026-11-30) format: PVS_FILE_NO_LOOKUP, PVS_BAKE_NO_LOOKUP (no cell boxes, look-up: a third smaller).
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

@@ -7,6 +7,8 @@
 #   BENCH file_ratio_xz_SCENE     the file over xz -9 of the raw table
 #   BENCH file_ratio_zrl_SCENE    the file over the raw table's rows compressed as Quake's vis does (each byte
 #                                 as is, but a run of up to 255 zero bytes as a 0 and its length; rows apart)
+#   BENCH file_ratio_gzip_nolookup_MAP  the maps' files without cell boxes and look-up (pvsbake merge
+#                                 --no-lookup: engines that find their cells themselves) over gzip -9 of the table
 # then the means over the scenes measured. The generator scenes are baked without object names (--no-names:
 # identity, not visibility; the raw table holds none either). A compressor not installed is skipped with a message.
 set -u
@@ -16,7 +18,7 @@ mkdir -p "$T"
 have_gzip=1; command -v gzip > /dev/null || { have_gzip=0; echo "bench_file_ratio: gzip not found: file_ratio_gzip skipped"; }
 have_xz=1; command -v xz > /dev/null || { have_xz=0; echo "bench_file_ratio: xz not found: file_ratio_xz skipped"; }
 sums=$T/sums.txt
-: > "$sums"
+: > "$sums"; rm -f "$T/nolookup.txt"
 ratio() { # FILE.pvs LABEL
   "$B/pvsinfo" --raw "$1" "$T/raw.bin" || return
   f=$(wc -c < "$1"); r=$(wc -c < "$T/raw.bin")
@@ -47,7 +49,13 @@ for p in "$B"/maps/*.whole.pvs; do
   [ -f "$p" ] || { echo "bench_file_ratio: no whole-level map bakes in $B/maps (tests/bench_maps.sh): real levels skipped"; break; }
   m=$(basename "$p" .whole.pvs)
   ratio "$p" "$m"
+  if [ $have_gzip -eq 1 ] && "$B/pvsbake" merge --no-lookup -o "$T/$m.nolookup.pvs" "$p" 2> /dev/null; then
+    f=$(wc -c < "$T/$m.nolookup.pvs"); g=$(gzip -9 -c "$T/raw.bin" | wc -c)
+    echo "BENCH file_ratio_gzip_nolookup_$m $(awk "BEGIN { printf \"%.2f\", $f / $g }") ratio"
+    echo "$f $g" >> "$T/nolookup.txt"
+  fi
 done
+[ -f "$T/nolookup.txt" ] && awk '{ r += $1 / $2; n++ } END { if (n) printf "BENCH file_ratio_gzip_nolookup_mean %.2f ratio\n", r / n }' "$T/nolookup.txt" && rm -f "$T/nolookup.txt"
 awk '{ n++; if ($3 > 0) { g += $1 / $3; ng++ } if ($4 > 0) { x += $1 / $4; nx++ } if ($5 > 0) { z += $1 / $5; nz++ }
        r += $1 / $2 }
      END { if (n) printf "BENCH file_ratio_raw_mean %.3f ratio\n", r / n;

@@ -245,6 +245,12 @@ static void check_mask_preview(void) {
     bd.max_distance = 0.0f;
     bd.flags = 0x80u;
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.flags = PVS_BAKE_NO_LOOKUP; /* no boxes: not for shards (merge needs them) nor VOCC (its occluders do) */
+    bd.shard_count = 2;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.shard_count = 0;
+    bd.method = PVS_METHOD_VOCC;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
     CHECK(b == NULL);
     CHECK(strcmp(pvs_method_name(PVS_METHOD_AUTO), "auto") == 0);
     pvs_scene_destroy(s);

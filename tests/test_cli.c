@@ -325,6 +325,22 @@ void test_cli(void) {
         CHECK(run("./pvsbake " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/x.pvs --shard 4/3", &out) == 2); free(out);
         CHECK(run("./pvsbake " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/x.pvs --shard 31/31", &out) == 1 && strstr(out, "only 30 cells")); free(out);
         CHECK(run("./pvsbake merge " DIR "/part1.pvs", &out) == 2); free(out);
+        /* --no-lookup: the bake's records without boxes, as merge --no-lookup writes them; the tools that need boxes
+           say so; not with shards */
+        CHECK(run("./pvsbake --method sample -q " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/nl.pvs --rays 64 --points 4 -j 2 --no-lookup", &out) == 0); free(out);
+        CHECK(run("./pvsbake merge --no-lookup -o " DIR "/nlm.pvs " DIR "/whole.pvs", &out) == 0); free(out);
+        CHECK(test_same_files(DIR "/nl.pvs", DIR "/nlm.pvs"));
+        CHECK(run("./pvsinfo " DIR "/nl.pvs", &out) == 0 && strstr(out, "no boxes or look-up") && !strstr(out, "CELL")); free(out);
+        {
+            char *o2 = NULL;
+            CHECK(run("./pvsinfo --dump " DIR "/nl.pvs", &out) == 0 && run("./pvsinfo --dump " DIR "/whole.pvs", &o2) == 0);
+            CHECK(out && o2 && strlen(out) > 100 && !strcmp(out, o2));
+            free(out);
+            free(o2);
+        }
+        CHECK(run("./pvscheck -q " DIR "/in.obj " DIR "/nl.pvs", &out) == 1 && strstr(out, "no cell boxes")); free(out);
+        CHECK(run("./pvsbake merge -o " DIR "/m3.pvs " DIR "/nl.pvs", &out) == 1 && strstr(out, "no cell boxes")); free(out);
+        CHECK(run("./pvsbake " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/x.pvs --shard 1/2 --no-lookup", &out) == 2); free(out);
         CHECK(run("./pvsinfo " DIR "/whole.pvs", &out) == 0 && strstr(out, "key cells") && strstr(out, "chain mean"));
         { /* the sections' sizes: the file's header, table, sections and padding (< 8 bytes after each) */
             const char *at = strstr(out, "sections    META ");

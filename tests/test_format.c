@@ -838,6 +838,55 @@ static void test_corpus(void) {
 
 /* NAME: names read back in place (a NULL one as ""), the lookup by name, a file without names, and each
    malformed section refused with BAD_SECTION (checksums fixed, so the NAME check itself decides). */
+/* PVS_FILE_NO_LOOKUP: the same records without CELL and TREE; no cell found, empty boxes; the flag and the sections
+   must agree; virtual occluders and unknown flags refused by the encoder. */
+static void test_no_lookup(void) {
+    enum { CELLS = 40, OBJECTS = 100 };
+    static pvs_box boxes[CELLS];
+    static pvs_word pvs[CELLS * 2];
+    static const uint8_t counts[CELLS], scales[CELLS];
+    pvs_file_desc d;
+    pvs_file f, g;
+    pvs_error e;
+    pvs_word bits[2], want[2];
+    size_t size, nsize;
+    uint8_t *full, *nol;
+    uint32_t c;
+    float p[3];
+    rng_state = 778;
+    make_table(CELLS, OBJECTS, 30, 5, 0, boxes, pvs);
+    desc_init(&d, boxes, CELLS, OBJECTS, pvs);
+    full = encode(&d, &size);
+    d.flags = PVS_FILE_NO_LOOKUP;
+    nol = encode(&d, &nsize);
+    CHECK(full && nol && nsize < size && !section(nol, "CELL") && !section(nol, "TREE") && section(nol, "RECS"));
+    if (!full || !nol) return;
+    CHECK(pvs_file_open(full, size, &f, NULL) == PVS_OK && pvs_file_open(nol, nsize, &g, NULL) == PVS_OK);
+    CHECK(g.flags == PVS_FILE_NO_LOOKUP && !(f.flags & PVS_FILE_NO_LOOKUP));
+    for (c = 0; c < CELLS; ++c) {
+        pvs_box b = pvs_file_cell_box(&g, c), fb = pvs_file_cell_box(&f, c);
+        CHECK(pvs_file_decode(&g, c, bits, 2, NULL) == PVS_OK && pvs_file_decode(&f, c, want, 2, NULL) == PVS_OK);
+        CHECK(!memcmp(bits, want, sizeof(bits)) && b.min[0] > b.max[0] && b.min[2] > b.max[2]);
+        p[0] = 0.5f * (fb.min[0] + fb.max[0]), p[1] = 0.5f * (fb.min[1] + fb.max[1]), p[2] = 0.5f * (fb.min[2] + fb.max[2]);
+        CHECK(pvs_file_find_cell(&g, p) == PVS_NO_CELL && pvs_file_find_cell(&f, p) != PVS_NO_CELL);
+    }
+    test_wr32(full + 16, PVS_FILE_NO_LOOKUP); /* the flag with CELL and TREE present */
+    pvs_fuzz_fix_checksums(full, size);
+    CHECK(expect_open(full, size, PVS_ERROR_BAD_SECTION));
+    test_wr32(nol + 16, 0); /* CELL and TREE missing without the flag */
+    pvs_fuzz_fix_checksums(nol, nsize);
+    CHECK(expect_open(nol, nsize, PVS_ERROR_BAD_SECTION));
+    d.flags = 8u;
+    CHECK(pvs_file_encode(&d, NULL, 0, &size, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    d.flags = PVS_FILE_NO_LOOKUP;
+    d.vocc_counts = counts, d.vocc_scales = scales, d.vocc_height_step = 1.0f;
+    CHECK(pvs_file_encode(&d, NULL, 0, &size, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    d.flags = 0;
+    CHECK(pvs_file_encode(&d, NULL, 0, &size, &e) == PVS_OK); /* the same occluders with the look-up */
+    free(full);
+    free(nol);
+}
+
 static void test_names(void) {
     enum { CELLS = 12, OBJECTS = 5 };
     static pvs_box boxes[CELLS];
@@ -895,4 +944,5 @@ void test_format(void) {
     test_golden();
     test_corpus();
     test_names();
+    test_no_lookup();
 }

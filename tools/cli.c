@@ -97,6 +97,10 @@ int cli_load_pvs_scene(const char *pvs_path, const char *scene_path, uint32_t up
         tool_error_set(err, pvs_path, 0, "%s", pe.message);
         return -1;
     }
+    if (file->flags & PVS_FILE_NO_LOOKUP) {
+        tool_error_set(err, pvs_path, 0, "stores no cell boxes (baked --no-lookup): give the file baked with them");
+        return -1;
+    }
     if (cli_load_scene(scene_path, up_axis ? up_axis : file->up_axis, m, scene, err)) return -1;
     uint64_t fp = pvs_scene_fingerprint(*scene);
     if (file->scene_fingerprint && file->object_count == pvs_scene_object_count(*scene) && /* else: not the same */
@@ -516,7 +520,7 @@ static const pvs_word *cli__merge_row(const void *user, uint32_t c, pvs_word *bu
     return buffer;
 }
 
-int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out_size, tool_error *err) {
+int cli_merge_parts(const char *const *paths, int count, int no_lookup, void **out, size_t *out_size, tool_error *err) {
     void **data = (void **)calloc((size_t)count, sizeof(void *));
     pvs_file *files = (pvs_file *)calloc((size_t)count, sizeof(pvs_file));
     int *by_shard = NULL, i, rc = -1;
@@ -538,6 +542,10 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     by_shard = (int *)malloc(n * sizeof(int));
     if (!by_shard) { tool_error_set(err, NULL, 0, "out of memory"); goto done; }
     if (cli__order_parts(paths, count, files, n, by_shard, err)) goto done;
+    if (files[0].flags & PVS_FILE_NO_LOOKUP) { /* no boxes to encode (bases take them) */
+        tool_error_set(err, paths[0], 0, "stores no cell boxes (--no-lookup): merge the files that have them");
+        goto done;
+    }
     words = (uint32_t)PVS_BITSET_WORDS(files[0].object_count);
     boxes = (pvs_box *)malloc((size_t)total * sizeof(pvs_box));
     if (!boxes) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
@@ -575,7 +583,7 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     d.method = files[0].method;
     d.eps = files[0].eps;
     d.up_axis = files[0].up_axis;
-    d.flags = files[0].flags;
+    d.flags = files[0].flags | (no_lookup ? PVS_FILE_NO_LOOKUP : 0u);
     d.max_chain = files[0].max_chain;
     d.scene_fingerprint = files[0].scene_fingerprint;
     if (pvs_file_object_name(files, 0)) {

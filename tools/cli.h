@@ -46,7 +46,8 @@ int cli_load_scene_limited(const char *path, uint32_t up_axis, mesh *m, cli_memo
 
 /* pvscheck's and pvsview's inputs: reads and opens the .pvs file (*data gets its bytes, which the
    file uses in place: free() them after it), then loads the OBJ scene with up_axis, or the file's
-   when it is 0. Returns 0, or -1 with err set ("PVS_PATH: reason" for the file). */
+   when it is 0. Returns 0, or -1 with err set ("PVS_PATH: reason" for the file; a file without cell
+   boxes, PVS_FILE_NO_LOOKUP, is refused). */
 int cli_load_pvs_scene(const char *pvs_path, const char *scene_path, uint32_t up_axis, void **data, pvs_file *file, mesh *m, pvs_scene **scene,
                        tool_error *err);
 
@@ -91,8 +92,9 @@ int cli_write_bake(const pvs_bake *bake, const char *path, size_t *size, tool_er
 
 /* `pvsbake merge`: reads the part files of one sharded bake (any order), checks that they make up
    the whole (same shard count, every shard once, same table shape and parameters) and encodes the
-   whole table into *out (malloc'd, *out_size bytes): the bytes an unsharded bake writes. */
-int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out_size, tool_error *err);
+   whole table into *out (malloc'd, *out_size bytes): the bytes an unsharded bake writes. One whole
+   file re-encodes itself. no_lookup: the result without cell boxes and look-up (PVS_FILE_NO_LOOKUP). */
+int cli_merge_parts(const char *const *paths, int count, int no_lookup, void **out, size_t *out_size, tool_error *err);
 
 /* Seconds on a monotonic clock. */
 double cli_seconds(void);

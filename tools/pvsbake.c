@@ -6,7 +6,8 @@
 
 static const char *usage =
     "usage: pvsbake SCENE.obj -o OUT.pvs [--cells CELLS.txt | --cells walkable[:SIZE] | --grid SIZE] [options]\n"
-    "       pvsbake merge -o OUT.pvs PART.pvs...   combine the parts of a sharded bake\n"
+    "       pvsbake merge [--no-lookup] -o OUT.pvs PART.pvs...   combine the parts of a sharded bake\n"
+    "                    (one whole file: encoded again, e.g. without its look-up)\n"
     "  -o OUT.pvs        output file (written to a temporary file, then renamed)\n"
     "  --cells FILE      view cells: one 'minx miny minz maxx maxy maxz' per line ('#' comments)\n"
     "  --cells walkable[:SIZE]  view cells where the camera can go (pvs_walkable_cells): floors with\n"
@@ -76,6 +77,9 @@ static const char *usage =
     "  --no-state        no state file\n"
     "  --no-names        leave the objects' names out of the file (stored, they let pvscheck and pvsview\n"
     "                    tell a renamed or reordered object)\n"
+    "  --no-lookup       leave the cell boxes and look-up tree out (an engine that finds its cells\n"
+    "                    itself, e.g. from its BSP leaves: a quarter to a third smaller on game maps);\n"
+    "                    pvs_file_find_cell then finds none, and pvscheck and pvsview need the full file\n"
     "  -q, --quiet       no progress bar and no summary\n"
     "  --help            this text\n"
     "An option for one method (shrink:, extproj:, vocc:, sample method: above) with a --method that\n"
@@ -145,7 +149,7 @@ static int memory_limit(const char *arg, size_t *limit, const char **source) {
 static int merge_main(int argc, char **argv) {
     const char *out_path = NULL;
     const char **parts = (const char **)calloc((size_t)argc + 1, sizeof(char *));
-    int n = 0, i, rc = 1;
+    int n = 0, i, rc = 1, no_lookup = 0;
     void *bytes = NULL;
     size_t size = 0;
     tool_error te;
@@ -154,6 +158,8 @@ static int merge_main(int argc, char **argv) {
         if (!strcmp(argv[i], "-o")) {
             if (i + 1 >= argc) { free(parts); return tool_usage_error(TOOL, "%s needs a value", "-o"); }
             out_path = argv[++i];
+        } else if (!strcmp(argv[i], "--no-lookup")) {
+            no_lookup = 1;
         } else if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             fputs(usage, stdout);
             free(parts);
@@ -169,7 +175,7 @@ static int merge_main(int argc, char **argv) {
         free(parts);
         return tool_usage_error(TOOL, "merge needs -o OUT.pvs and at least one part file");
     }
-    if (cli_merge_parts(parts, n, &bytes, &size, &te) == 0 && write_file_atomic(out_path, bytes, size, &te) == 0) {
+    if (cli_merge_parts(parts, n, no_lookup, &bytes, &size, &te) == 0 && write_file_atomic(out_path, bytes, size, &te) == 0) {
         fprintf(stderr, "%s: merged %d parts, %zu bytes\n", out_path, n, size);
         rc = 0;
     } else {
@@ -362,7 +368,7 @@ typedef struct bake_options {
     uint32_t methods, up, threads, points, rays, seed, chain, shard_k, shard_n, state_every;
     uint32_t sweep, adaptive, resolution, otree_budget, vocc_slices, vocc_max;
     uint32_t given; /* bits over method_options: the options given */
-    int quiet, preview, no_state, no_names, vocc_only, no_sweep, subcells, state_every_given, threads_given;
+    int quiet, preview, no_state, no_names, no_lookup, vocc_only, no_sweep, subcells, state_every_given, threads_given;
 } bake_options;
 
 /* One option of value_options with its value v. 0, or 2 after a usage error. */
@@ -443,6 +449,8 @@ static int check_options(const bake_options *o) {
     if (!o->out_path) return tool_usage_error(TOOL, "no output given (-o OUT.pvs)");
     if (!o->cells_path == !(o->grid > 0.0f)) return tool_usage_error(TOOL, "give exactly one of --cells FILE or --grid SIZE");
     if (o->vocc_only && o->method != PVS_METHOD_VOCC) return tool_usage_error(TOOL, "--vocc-only needs --method vocc");
+    if (o->no_lookup && (o->method == PVS_METHOD_VOCC || o->shard_n > 1))
+        return tool_usage_error(TOOL, "--no-lookup: not with --method vocc (its occluders need the cell boxes) or --shard (use merge --no-lookup)");
     if (!o->walkable && (o->walk_from_given || o->eye_height > 0.0f || o->step_height > 0.0f || o->volumes_path))
         return tool_usage_error(TOOL, "--walk-from, --eye-height, --step-height and --volumes need --cells walkable");
     if (check_method_options(o->given, o->method, o->methods, o->method_arg)) return 2;
@@ -494,6 +502,8 @@ static int parse_options(int argc, char **argv, bake_options *o) {
             o->no_state = 1;
         } else if (!strcmp(a, "--no-names")) {
             o->no_names = 1;
+        } else if (!strcmp(a, "--no-lookup")) {
+            o->no_lookup = 1;
         } else if (cli_is_option(a, value_options)) {
             if (!v) return tool_usage_error(TOOL, "%s needs a value", a);
             ++i;
@@ -577,7 +587,7 @@ static void bake_desc_init(pvs_bake_desc *bd, const bake_options *o, const pvs_s
     bd->methods = o->methods;
     bd->eps = o->eps;
     bd->max_distance = o->max_distance;
-    bd->flags = o->preview ? PVS_BAKE_PREVIEW : 0u;
+    bd->flags = (o->preview ? PVS_BAKE_PREVIEW : 0u) | (o->no_lookup ? PVS_BAKE_NO_LOOKUP : 0u);
     bd->sample.points = o->points;
     bd->sample.rays = o->rays;
     bd->sample.seed = o->seed;

@@ -105,7 +105,7 @@ static int verify_file(const char *path, const pvs_file *f, size_t size, pvs_wor
             fprintf(stderr, "pvsinfo: %s: cell %u: %s\n", path, c, pe.message);
             return 1;
         }
-        for (j = 0; j < 9; ++j) {
+        for (j = 0; j < 9 && !(f->flags & PVS_FILE_NO_LOOKUP); ++j) {
             float q[3];
             for (k = 0; k < 3; ++k) q[k] = j == 8 ? b.min[k] + 0.5f * (b.max[k] - b.min[k]) : ((j >> k) & 1) ? b.max[k] : b.min[k];
             if (pvs_file_find_cell(f, q) > c) {
@@ -200,7 +200,7 @@ static void print_summary(const char *path, const pvs_file *f, const uint8_t *da
     printf("up axis     %s\n", f->up_axis == 2 ? "z" : "y");
     if (f->scene_fingerprint) printf("scene       fingerprint %016llx\n", (unsigned long long)f->scene_fingerprint);
     else printf("scene       no fingerprint (baked before v0.8.0): a stale file cannot be told\n");
-    printf("cells       %u\n", f->cell_count);
+    printf("cells       %u%s\n", f->cell_count, (f->flags & PVS_FILE_NO_LOOKUP) ? ", no boxes or look-up stored (--no-lookup)" : "");
     printf("objects     %u", f->object_count);
     if (pvs_file_object_name(f, 0)) printf(", named (object 0 '%s')\n", pvs_file_object_name(f, 0));
     else printf(", no names stored (a renamed or reordered object cannot be told)\n");
@@ -260,7 +260,8 @@ int main(int argc, char **argv) {
     } else if (o.at) {
         uint32_t c = pvs_file_find_cell(&f, o.p);
         if (c == PVS_NO_CELL) {
-            fprintf(stderr, "pvsinfo: %s: the point %g %g %g is in no cell\n", o.path, o.p[0], o.p[1], o.p[2]);
+            fprintf(stderr, "pvsinfo: %s: the point %g %g %g is in no cell%s\n", o.path, o.p[0], o.p[1], o.p[2],
+                    (f.flags & PVS_FILE_NO_LOOKUP) ? " (the file stores no look-up: --no-lookup)" : "");
             rc = 1;
         } else {
             print_cell(&f, c, bits, words);
