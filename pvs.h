@@ -125,7 +125,7 @@
    2.4 KB, per triangle and object); pvs_bake_begin (a bitset per cell, cell_count * object_count / 8 bytes, or
    PVS_BAKE_COMPACT's coded PVSs; 40 of statistics per cell); pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ:
    pvs_extproj_task_bytes, 8 MB at 256 pixels, 0.7 GB at 1024 and 64 sweep planes, freed; adaptive cells: a
-   box and a bitset per leaf, kept); pvs_file_encode (~40 bytes per cell plus a bitset); pvs_raster_create
+   box and a bitset per leaf, kept); pvs_file_encode (~500 bytes per cell plus a bitset); pvs_raster_create
    (depth map, pyramid, cull map, bins); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and
    object). Allocate nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_raster_draw,
    pvs_raster_bin, _draw_band, pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
