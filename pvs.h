@@ -1096,7 +1096,7 @@ typedef struct pvs_bake_desc {
    grows with PVS sizes; also chosen if table would exceed PVS_BAKE_COMPACT_BYTES. Files byte-identical either way;
    pvs_bake_cell_pvs then decodes into one bake buffer. */
 #define PVS_BAKE_COMPACT 2u
-/* PVS_BAKE_NO_LOOKUP: file flagged PVS_FILE_NO_LOOKUP; not with VOCC or shards. */
+/* PVS_BAKE_NO_LOOKUP: PVS_FILE_NO_LOOKUP file; not with VOCC, shards, adaptive cells. */
 #define PVS_BAKE_NO_LOOKUP 4u
 #ifndef PVS_BAKE_COMPACT_BYTES
 #define PVS_BAKE_COMPACT_BYTES ((size_t)64 << 20)
@@ -21905,8 +21905,9 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 	if (!pvs__finite(desc->max_distance) || desc->max_distance < 0.0f)
 		return PVS__BAD_ARG(err, "max_distance must be finite and >= 0");
 	if (desc->flags & ~(PVS_BAKE_PREVIEW | PVS_BAKE_COMPACT | PVS_BAKE_NO_LOOKUP) ||
-		((desc->flags & PVS_BAKE_NO_LOOKUP) && (method == PVS_METHOD_VOCC || desc->shard_count > 1)))
-		return PVS__BAD_ARG(err, "bake flags 0x%x: unknown, or no look-up with vocc or shards", desc->flags);
+		((desc->flags & PVS_BAKE_NO_LOOKUP) && (method == PVS_METHOD_VOCC || desc->shard_count > 1 ||
+												desc->adaptive.budget)))
+		return PVS__BAD_ARG(err, "bake flags 0x%x: unknown, or no look-up with vocc, shards, adaptive", desc->flags);
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) {
 		const pvs__bake_method *m = pvs__bake_methods[k];
 		if (m->check && (r = m->check(desc, err)) != PVS_OK) return r;

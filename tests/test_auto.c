@@ -251,6 +251,10 @@ static void check_mask_preview(void) {
     bd.shard_count = 0;
     bd.method = PVS_METHOD_VOCC;
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.method = PVS_METHOD_OTREE;
+    bd.adaptive.budget = 1000; /* leaf cells: only the file knows their boxes */
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.adaptive.budget = 0;
     CHECK(b == NULL);
     CHECK(strcmp(pvs_method_name(PVS_METHOD_AUTO), "auto") == 0);
     pvs_scene_destroy(s);

@@ -154,6 +154,8 @@ void test_cli(void) {
             {"--adaptive 100 --method vocc", "--adaptive does not go with"},
             {"--adaptive 100 --shard 1/2", "--adaptive does not go with"},
             {"--adaptive 100 --state-every 2", "--adaptive does not go with"},
+            {"--no-lookup --adaptive 100", "--no-lookup: not with"},
+            {"--no-lookup --method vocc", "--no-lookup: not with"},
         };
         size_t k;
         for (k = 0; k < sizeof(bad) / sizeof(bad[0]); ++k) {

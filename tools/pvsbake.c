@@ -449,8 +449,9 @@ static int check_options(const bake_options *o) {
     if (!o->out_path) return tool_usage_error(TOOL, "no output given (-o OUT.pvs)");
     if (!o->cells_path == !(o->grid > 0.0f)) return tool_usage_error(TOOL, "give exactly one of --cells FILE or --grid SIZE");
     if (o->vocc_only && o->method != PVS_METHOD_VOCC) return tool_usage_error(TOOL, "--vocc-only needs --method vocc");
-    if (o->no_lookup && (o->method == PVS_METHOD_VOCC || o->shard_n > 1))
-        return tool_usage_error(TOOL, "--no-lookup: not with --method vocc (its occluders need the cell boxes) or --shard (use merge --no-lookup)");
+    if (o->no_lookup && (o->method == PVS_METHOD_VOCC || o->shard_n > 1 || o->adaptive))
+        return tool_usage_error(TOOL, "--no-lookup: not with --method vocc (its occluders need the cell boxes), --adaptive (the file "
+                                "alone knows its cells' boxes) or --shard (use merge --no-lookup)");
     if (!o->walkable && (o->walk_from_given || o->eye_height > 0.0f || o->step_height > 0.0f || o->volumes_path))
         return tool_usage_error(TOOL, "--walk-from, --eye-height, --step-height and --volumes need --cells walkable");
     if (check_method_options(o->given, o->method, o->methods, o->method_arg)) return 2;
