@@ -24253,7 +24253,7 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 	nol = pvs__get32(p + 16) & PVS_FILE_NO_LOOKUP;
 	if (!sec.meta || (!sec.cells && !nol) || (!sec.tree && !nol) || !sec.recs || !sec.modl)
 		return PVS__FAIL(err, PVS_ERROR_BAD_SECTION, "missing required section %s",
-						 !sec.meta ? "META" : !sec.cells ? "CELL" : !sec.tree ? "TREE" : !sec.recs ? "RECS" : "MODL");
+						 !sec.meta ? "META" : !sec.recs ? "RECS" : !sec.modl ? "MODL" : !sec.cells ? "CELL" : "TREE");
 	if (nol && (sec.cells || sec.tree || sec.vocc))
 		return PVS__FAIL(err, PVS_ERROR_BAD_SECTION, "no look-up (flag 2), yet a CELL, TREE or VOCC section");
 	r = pvs__open_meta(f, p, sec.meta, sec.meta_size, err);

@@ -583,7 +583,7 @@ int cli_merge_parts(const char *const *paths, int count, int no_lookup, void **o
     d.method = files[0].method;
     d.eps = files[0].eps;
     d.up_axis = files[0].up_axis;
-    d.flags = files[0].flags | (no_lookup ? PVS_FILE_NO_LOOKUP : 0u);
+    d.flags = (files[0].flags & PVS_FILE_APPROXIMATE) | (no_lookup ? PVS_FILE_NO_LOOKUP : 0u); /* others: unknown */
     d.max_chain = files[0].max_chain;
     d.scene_fingerprint = files[0].scene_fingerprint;
     if (pvs_file_object_name(files, 0)) {
