@@ -1195,8 +1195,8 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 /* ---- format */
 
 #define PVS_FILE_APPROXIMATE 1u /* file flag: estimated (SAMPLE), not conservative */
-/* File flag: no CELL, TREE (engine finds its cells itself, e.g. BSP leaves): pvs_file_find_cell gives PVS_NO_CELL,
-   pvs_file_cell_box an empty box; no VOCC. Encoder still takes cells (bases: neighbours). */
+/* File flag: no CELL, TREE, VOCC (engine finds its cells, e.g. BSP leaves): pvs_file_find_cell gives PVS_NO_CELL,
+   pvs_file_cell_box an empty box. Encoder still takes cells (bases: neighbours). */
 #define PVS_FILE_NO_LOOKUP 2u
 
 #define PVS_DEFAULT_CHAIN 16u	/* default bound K on cell's delta chain */
@@ -23405,7 +23405,7 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 		if (r != PVS_OK) return r;
 	}
 	if (d->flags & ~(PVS_FILE_APPROXIMATE | PVS_FILE_NO_LOOKUP) || (d->vocc_counts && d->flags & PVS_FILE_NO_LOOKUP))
-		return PVS__BAD_ARG(err, "file flags 0x%x: unknown, or no look-up with virtual occluders", d->flags);
+		return PVS__BAD_ARG(err, "file flags 0x%x: unknown, or no look-up and VOCC", d->flags);
 	if (d->vocc_counts) { /* optional VOCC section (>>vocc) */
 		uint64_t n = 0;
 		for (i = 0; i < d->cell_count; ++i) n += d->vocc_counts[i];
@@ -23680,7 +23680,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	if (r != PVS_OK) goto done;
 	r = pvs__encoder_kdtree(&e, err);
 	if (r != PVS_OK) goto done;
-	r = pvs__encoder_lookup_tree(&e, err);
+	if (!(d->flags & PVS_FILE_NO_LOOKUP)) r = pvs__encoder_lookup_tree(&e, err);
 	if (r != PVS_OK) goto done;
 
 	e.rows = PVS__ALLOC_N(&e.a, pvs_word, 2 * e.words);
@@ -23701,7 +23701,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;
 	recs_size = pvs__encoder_records(&e, NULL);
 
-	/* sections in manual's order, 8-aligned; without look-up, CELL and TREE none */
+	/* sections in manual's order, 8-aligned */
 	sections = d->shard_count ? 6u : 5u;
 	tags[0] = PVS__TAG_META; sz[0] = PVS__META_SIZE;
 	tags[1] = PVS__TAG_CELL; sz[1] = cell_bytes;
@@ -24327,7 +24327,7 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 	uint32_t idx[6];
 	int k;
 	PVS_ASSERT(cell < f->cell_count);
-	if (!f->private_.tree) { /* PVS_FILE_NO_LOOKUP */
+	if (!f->private_.tree) { /* no look-up */
 		PVS__FOR3(k) b.min[k] = FLT_MAX, b.max[k] = -FLT_MAX;
 		return b;
 	}

@@ -341,6 +341,7 @@ void test_cli(void) {
             free(o2);
         }
         CHECK(run("./pvscheck -q " DIR "/in.obj " DIR "/nl.pvs", &out) == 1 && strstr(out, "no cell boxes")); free(out);
+        CHECK(run("./pvsinfo --at 1 1 1 " DIR "/nl.pvs", &out) == 1 && strstr(out, "stores no look-up")); free(out);
         CHECK(run("./pvsbake merge -o " DIR "/m3.pvs " DIR "/nl.pvs", &out) == 1 && strstr(out, "no cell boxes")); free(out);
         CHECK(run("./pvsbake " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/x.pvs --shard 1/2 --no-lookup", &out) == 2); free(out);
         CHECK(run("./pvsinfo " DIR "/whole.pvs", &out) == 0 && strstr(out, "key cells") && strstr(out, "chain mean"));
