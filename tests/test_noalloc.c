@@ -124,6 +124,23 @@ void test_noalloc(void) {
     CHECK(sum > 0);
     CHECK(noalloc_mallocs == 0);
     free(buf);
+    d.flags = PVS_FILE_NO_LOOKUP; /* the same without cell boxes and look-up */
+    CHECK(pvs_file_encode(&d, NULL, 0, &bound, &e) == PVS_OK);
+    buf = (uint8_t *)malloc(bound);
+    CHECK(pvs_file_encode(&d, buf, bound, &size, &e) == PVS_OK);
+    noalloc_mallocs = 0;
+    CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK);
+    for (c = 0; c < CELLS; ++c) {
+        float p[3];
+        pvs_box b = pvs_file_cell_box(&f, c);
+        p[0] = p[1] = p[2] = (float)c + 0.5f;
+        CHECK(pvs_file_find_cell(&f, p) == PVS_NO_CELL && b.min[0] > b.max[0]);
+        CHECK(pvs_file_decode(&f, c, bits, PVS_BITSET_WORDS(OBJECTS), &e) == PVS_OK);
+        CHECK(memcmp(bits, pvs + c * PVS_BITSET_WORDS(OBJECTS), sizeof(bits)) == 0);
+    }
+    CHECK(noalloc_mallocs == 0);
+    free(buf);
+    d.flags = 0;
     { /* the virtual occluders' rebuild (pvs_vocc_cull), flat and through an object kD-tree */
         static uint8_t counts[CELLS], scales[CELLS], vo[CELLS * 2 * 5];
         static pvs_box objs[OBJECTS];
