@@ -22635,7 +22635,7 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__CTX_COUNT 76u /* record coding's contexts */
 #define PVS__MODL_HEAD (8u + 2u * PVS__CTX_COUNT)
 #define PVS__ORDER_SAMPLE 2048u /* cells whose PVSs order objects */
-#define PVS__ORDER_WINDOW 1024u /* unused objects each step of order searches */
+#define PVS__ORDER_WINDOW 4096u /* unused objects each step of order searches */
 
 PVS__STATIC size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 
