@@ -78,6 +78,16 @@ static void noalloc_otree(void) {
     pvs_scene_destroy(sc);
 }
 
+/* d's file in a fresh buffer of *size bytes (malloc'd), encoded before the count restarts. */
+static uint8_t *noalloc_encode(const pvs_file_desc *d, size_t *size) {
+    size_t bound = 0;
+    uint8_t *buf;
+    CHECK(pvs_file_encode(d, NULL, 0, &bound, NULL) == PVS_OK);
+    buf = (uint8_t *)malloc(bound ? bound : 1);
+    CHECK(buf && pvs_file_encode(d, buf, bound, size, NULL) == PVS_OK);
+    return buf;
+}
+
 void test_noalloc(void) {
     noalloc_otree();
     enum { CELLS = 40, OBJECTS = 500 };
@@ -87,7 +97,7 @@ void test_noalloc(void) {
     pvs_file f;
     pvs_error e;
     uint8_t *buf;
-    size_t bound, size;
+    size_t size;
     uint32_t c, i, sum = 0;
     for (c = 0; c < CELLS; ++c) {
         int k;
@@ -96,9 +106,7 @@ void test_noalloc(void) {
     }
     memset(&d, 0, sizeof(d));
     d.cells = boxes; d.cell_count = CELLS; d.object_count = OBJECTS; d.pvs = pvs; d.up_axis = 1;
-    CHECK(pvs_file_encode(&d, NULL, 0, &bound, &e) == PVS_OK);
-    buf = (uint8_t *)malloc(bound);
-    CHECK(pvs_file_encode(&d, buf, bound, &size, &e) == PVS_OK);
+    buf = noalloc_encode(&d, &size);
     noalloc_mallocs = 0;
     CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK);
     for (c = 0; c < CELLS; ++c) {
@@ -125,9 +133,7 @@ void test_noalloc(void) {
     CHECK(noalloc_mallocs == 0);
     free(buf);
     d.flags = PVS_FILE_NO_LOOKUP; /* the same without cell boxes and look-up */
-    CHECK(pvs_file_encode(&d, NULL, 0, &bound, &e) == PVS_OK);
-    buf = (uint8_t *)malloc(bound);
-    CHECK(pvs_file_encode(&d, buf, bound, &size, &e) == PVS_OK);
+    buf = noalloc_encode(&d, &size);
     noalloc_mallocs = 0;
     CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK);
     for (c = 0; c < CELLS; ++c) {
@@ -161,9 +167,7 @@ void test_noalloc(void) {
             for (k = 0; k < 3; ++k) { objs[i].min[k] = (float)(i % 37) * 3.0f - 50.0f + (float)k; objs[i].max[k] = objs[i].min[k] + 2.0f; }
         }
         d.vocc_counts = counts; d.vocc_scales = scales; d.virtual_occluders = vo; d.vocc_base = -100.0f; d.vocc_height_step = 1.0f;
-        CHECK(pvs_file_encode(&d, NULL, 0, &bound, &e) == PVS_OK);
-        buf = (uint8_t *)malloc(bound);
-        CHECK(pvs_file_encode(&d, buf, bound, &size, &e) == PVS_OK);
+        buf = noalloc_encode(&d, &size);
         memset(&kd, 0, sizeof(kd));
         kd.boxes = objs;
         kd.count = OBJECTS;
