@@ -23709,12 +23709,13 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	tags[3] = PVS__TAG_RECS; sz[3] = recs_size;
 	tags[4] = PVS__TAG_MODL; sz[4] = pvs__encoder_model_size(&e);
 	tags[5] = PVS__TAG_SHRD; sz[5] = PVS__SHRD_SIZE;
-	if (d->flags & PVS_FILE_NO_LOOKUP) {
+	k_recs = 3;
+	if (d->flags & PVS_FILE_NO_LOOKUP) { /* no CELL, TREE */
 		memmove(tags + 1, tags + 3, 3 * sizeof(uint32_t));
 		memmove(sz + 1, sz + 3, 3 * sizeof(size_t));
 		sections -= 2;
+		k_recs = 1;
 	}
-	k_recs = sections - (d->shard_count ? 3u : 2u);
 	if (d->vocc_counts) {
 		tags[k_vocc = sections] = PVS__VO_TAG;
 		sz[sections++] = vocc_size;

@@ -876,6 +876,13 @@ static void test_no_lookup(void) {
     test_wr32(nol + 16, 0); /* CELL and TREE missing without the flag */
     pvs_fuzz_fix_checksums(nol, nsize);
     CHECK(expect_open(nol, nsize, PVS_ERROR_BAD_SECTION));
+    d.shard_index = 1, d.shard_count = 2, d.total_cell_count = 2 * CELLS; /* a part file: SHRD after RECS, MODL */
+    free(nol);
+    nol = encode(&d, &nsize);
+    CHECK(nol && pvs_file_open(nol, nsize, &g, NULL) == PVS_OK && g.shard_count == 2 && g.shard_index == 1 &&
+          g.total_cell_count == 2 * CELLS && !section(nol, "CELL") && section(nol, "SHRD"));
+    CHECK(nol && pvs_file_decode(&g, 3, bits, 2, NULL) == PVS_OK && !memcmp(bits, pvs + 2 * 3, sizeof(bits)));
+    d.shard_index = d.shard_count = d.total_cell_count = 0;
     d.flags = 8u;
     CHECK(pvs_file_encode(&d, NULL, 0, &size, &e) == PVS_ERROR_INVALID_ARGUMENT);
     d.flags = PVS_FILE_NO_LOOKUP;
