@@ -348,7 +348,7 @@ typedef struct pvs_hit {
    Watertight (Woop, Benthin, Wald 2013, in double): no ray slips through shared edges or corners. Zero-area,
    see-through triangles never hit; ties to lowest triangle. Thread-safe, no allocation. */
 PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax,
-							  pvs_hit *hit);
+		pvs_hit *hit);
 /* 1 if a triangle crosses segment a-b (ends included), 0 if a == b; else as pvs_scene_raycast. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
 
@@ -374,7 +374,7 @@ typedef struct pvs_walkable_desc {
    Deterministic, thread-safe. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW (> 2^26 sample columns),
    OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable_desc *desc, pvs_box *cells,
-									  uint32_t capacity, uint32_t *count, pvs_error *err);
+		uint32_t capacity, uint32_t *count, pvs_error *err);
 
 /* ---- kdtree */
 
@@ -417,7 +417,7 @@ typedef enum pvs_visit {
    above. Leaves pass their items (each once per leaf holding it), others NULL, 0. After PVS_VISIT_ALL, non-empty leaves
    below come at once, depth first, distance -1, before sweep goes on. */
 typedef pvs_visit (*pvs_kdtree_visit_fn)(void *user, const pvs_box *node_box, float distance,
-										 const uint32_t *items, uint32_t item_count);
+		const uint32_t *items, uint32_t item_count);
 
 /* Scratch bytes pvs_kdtree_sweep needs: 32 per leaf ((node_count + 1) / 2). */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *tree);
@@ -425,7 +425,7 @@ PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *tree);
    priority queue on min distance, ties by node index. `scratch`: pvs_kdtree_sweep_scratch_size bytes, 8-aligned.
    Errors: BUFFER_TOO_SMALL, INVALID_ARGUMENT (NULL tree, source or visit), NOT_FINITE (source). No allocation. */
 PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *source, void *scratch, size_t scratch_size,
-									pvs_kdtree_visit_fn visit, void *user);
+		pvs_kdtree_visit_fn visit, void *user);
 
 /* Per non-empty leaf a ray passes, nearest first; [t_enter, t_exit] widened by relative 1e-7. Return smaller tmax to
    shorten ray (larger ignored), < 0 to stop. */
@@ -433,7 +433,7 @@ typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t i
 /* Walks leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components (not all 3),
    origin anywhere; non-finite input: no leaves. Thread-safe, no allocation. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
-							pvs_kdtree_ray_fn fn, void *user);
+		pvs_kdtree_ray_fn fn, void *user);
 
 /* Items of p's leaf: all whose box contains p (also on a split plane), maybe more; NULL, *count = 0 outside bounds or
    in empty leaf. No allocation. */
@@ -516,7 +516,7 @@ PVS_API pvs_result pvs_raster_set_clip_matrix(pvs_raster *raster, const float m[
    pixel nearer depth (tiles may keep a farther one, never one nearer than nearest occluder); conservative under
    rounding. Skips triangles with non-finite coordinate or index >= vertex_count. Errors: pvs_raster_draw. */
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positions, uint32_t vertex_count,
-										const uint32_t *indices, uint32_t count, pvs_raster_mode mode);
+		const uint32_t *indices, uint32_t count, pvs_raster_mode mode);
 /* Draws `count` triangles as one occluder (Durand 2000 §3.3: per-triangle inner coverage cracks along shared edges):
    as pvs_raster_triangles, plus pixels along shared edges and at vertices they close (small triangles: all pixels no
    boundary edge meets), never nearer than triangles there. Boundary edges (cracks remain): edges not shared by exactly
@@ -524,7 +524,7 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positio
    cut, edges of triangles already hidden (tiled), between pieces of max_mesh_triangles, at open fans of large
    triangles. Errors as pvs_raster_triangles; SIMD: same. */
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count,
-								   const uint32_t *indices, uint32_t count);
+		const uint32_t *indices, uint32_t count);
 /* Draw with Masked Occlusion Culling's per-call options: vertices in caller's struct, back-face culling. */
 typedef struct pvs_raster_draw_desc {
 	const float *positions; /* x, y, z first in each vertex (4-byte aligned); NULL only without triangles */
@@ -557,10 +557,10 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_des
 /* INVALID_ARGUMENT as pvs_raster_draw, and for occludees, PVS_DRAW_MESH, untiled raster or bad part; BUFFER_TOO_SMALL
    past pvs_raster_desc.bin_triangles. */
 PVS_API pvs_result pvs_raster_bin(pvs_raster *raster, const pvs_raster_draw_desc *draws, uint32_t draw_count,
-								  uint32_t part);
+		uint32_t part);
 /* Draws band `band` of every part's bins. */
 PVS_API void pvs_raster_draw_band(pvs_raster *raster, const pvs_raster_draw_desc *draws, uint32_t draw_count,
-								  uint32_t band);
+		uint32_t band);
 /* Depth map, width * height floats from row 0, valid until next raster call. */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
 
@@ -593,7 +593,7 @@ typedef struct pvs_facade_chain {
    if base <= min(eye height, scene's lowest point). Skips malformed chains. INVALID_ARGUMENT without scene and cull
    map, NOT_FINITE (eye). */
 PVS_API pvs_result pvs_cull_map_build(pvs_raster *raster, const float eye[3], const pvs_facade_chain *chains,
-									  uint32_t chain_count, uint32_t flags);
+		uint32_t chain_count, uint32_t flags);
 /* Cull map, width * height heights, row-major; cell (i, j) covers u in region[0] + [i, i+1] * (region[2] - region[0]) /
    width, v likewise. NULL without cull map. */
 PVS_API const float *pvs_cull_map(const pvs_raster *raster, uint32_t *width, uint32_t *height, float region[4]);
@@ -636,14 +636,14 @@ typedef struct pvs_cull_stats {
    occluder-only ones. `stats`: NULL ok. Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (scene larger
    than context's). */
 PVS_API pvs_result pvs_raster_cull(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
-								   const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
-								   pvs_error *err);
+		const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
+		pvs_error *err);
 /* 2.5D twin (Wonka 1999): builds cull map from eye with params->facades (and per flag scene's occluders), scans object
    grid by §4.3's two-level bounding-height test, sets every object in frustum not under shadows; orthographic cameras
    get frustum test only. `scene`: context's. Outputs, errors as pvs_raster_cull. */
 PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
-									   const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
-									   pvs_error *err);
+		const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
+		pvs_error *err);
 /* ---- otree */
 
 /* Occlusion trees (Bittner 2002): BSPs over line space built front to back; all float decisions conservative. */
@@ -676,7 +676,7 @@ typedef struct pvs_visibility_2d_desc {
    (PVS_BITSET_WORDS of segment_count, object_count; NULL ok, as stats) cleared first. Errors: INVALID_ARGUMENT,
    NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe; desc->allocator. */
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
-									 pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err);
+		pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err);
 
 /* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v), height. */
 typedef struct pvs_visibility_25d_desc {
@@ -699,13 +699,13 @@ typedef struct pvs_visibility_25d_desc {
 /* Fills boxes[facade_count + object_count] for pvs_visibility_25d_desc.tree: facade i is item i, object j item
    facade_count + j; axes u, v, height to top. Build once for all cells. */
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
-									  uint32_t object_count, pvs_box *boxes);
+		uint32_t object_count, pvs_box *boxes);
 
 /* Objects maybe visible from cell (ground rectangle x heights to cell_top), facades reaching below all cells and
    objects; misses none. Ignores facades crossing cell. visible_objects: object bitset, cleared first; stats NULL ok.
    Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY. Thread-safe; desc->allocator. */
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects,
-									  pvs_otree_stats *stats, pvs_error *err);
+		pvs_otree_stats *stats, pvs_error *err);
 
 /* From-point culling by shadow-volume occlusion tree (Bittner 2002, ch. 4), pvs_raster_cull's object-space twin: per
    frame, occluders merge front to back into BSP of planes through eye; object kD-tree walked front to back against it
@@ -749,8 +749,8 @@ PVS_API void pvs_otree_reset(pvs_otree *otree);
    INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic), BUFFER_TOO_SMALL (scene larger than context's). No
    allocation. */
 PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
-								  const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
-								  pvs_error *err);
+		const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
+		pvs_error *err);
 PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame);
 
 /* ---- occluders */
@@ -875,14 +875,14 @@ typedef struct pvs_vocc_2d_desc {
    found. Ignores segments meeting cell; stats NULL ok. Errors: INVALID_ARGUMENT, NOT_FINITE, BAD_CELL, OUT_OF_MEMORY.
    Thread-safe; desc->allocator. */
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, uint32_t capacity, uint32_t *count,
-							   pvs_vocc_stats *stats, pvs_error *err);
+		pvs_vocc_stats *stats, pvs_error *err);
 #endif /* PVS_RUNTIME_ONLY */
 
 /* 1 if `o` alone hides box from whole cell: every segment between ground rectangles crosses p0-p1, heights holding at
    each crossing fraction t (sight line meets occluder's plane at height (1 - t) eye + t target). Conservative under
    rounding; 0 for empty box or degenerate occluder. */
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
-								const pvs_box *box);
+		const pvs_box *box);
 
 /* Scratch bytes of pvs_vocc_cull* for <= max_occluders (<= 255 per cell in a file) and tree (NULL ok). */
 PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_occluders);
@@ -893,15 +893,15 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
    conservative); tree NULL tests every box. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors:
    INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation; thread-safe. */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders,
-										   uint32_t count, const pvs_box *object_boxes, uint32_t object_count,
-										   const pvs_kdtree *tree, void *scratch, size_t scratch_size,
-										   pvs_word *visible, pvs_error *err);
+		uint32_t count, const pvs_box *object_boxes, uint32_t object_count,
+		const pvs_kdtree *tree, void *scratch, size_t scratch_size,
+		pvs_word *visible, pvs_error *err);
 
 /* pvs_vocc_cull_occluders on file's first max_occluders (0 = all) of `cell`, with engine's boxes, tree of baked scene.
    INVALID_ARGUMENT also without VOCC section. */
 PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uint32_t max_occluders,
-								 const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
-								 void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
+		const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
+		void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
 
 /* ---- methods */
 
@@ -947,21 +947,21 @@ typedef struct pvs_shrink_stats {
    from occluders' allocator, freed on return: thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (path this
    build cannot run), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
-								   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
+		pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
 /* Estimator: `points` stratified points in `cell` (corners, face centres, then jittered grid), `rays_per_point` uniform
    directions each; sets in `visible` (object bitset, not cleared; never occluder-only objects) first object each ray
    hits and see-through ones it crosses first (one-sided: front hits). Returns # rays. Lower bound. Deterministic in
    `seed`; thread-safe, no allocation. */
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
-									   uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
+		uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
 /* Aimed sampling, better for small, far objects: per object of `targets` (NULL: all) not in `visible`, <=
    `rays_per_object` segments from uniform point of `cell` to uniform point of one of its triangles (pulled 1% toward
    centroid) until one reaches it; each sets first object it hits. Occluder-only objects neither set nor aimed at. Else
    as pvs_sample_visibility. */
 PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
-											  uint32_t rays_per_object, uint64_t seed, pvs_word *visible);
+		uint32_t rays_per_object, uint64_t seed, pvs_word *visible);
 
 /* ---- extended projections (Durand, Drettakis, Thollot, Puech 2000) */
 
@@ -988,7 +988,7 @@ typedef struct pvs_extproj_plane {
    every cell point (its views from 8 corners intersected) get min(stored, part's max depth, §2.3). Returns pixel
    writes per part, 0 if none or bad arguments. Thread-safe on distinct maps; no allocation. */
 PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count,
-									  float *depth_map);
+		float *depth_map);
 
 /* Occludee box's extended Projection (§3.1): bounding rectangle of its views from whole cell as inclusive pixel bounds
    rect = (i0, j0, i1, j1), maybe off map, and its min Depth. 0 if box not wholly beyond face (plane cannot decide it),
@@ -997,7 +997,7 @@ PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *
 
 /* 1 if a pixel of occludee's rect is off map or stores Depth >= depth; 0: hidden (§2.2). */
 PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_map, const int32_t rect[4],
-							 float depth);
+		float depth);
 
 /* Bytes EXTPROJ task allocates for planes at `resolution` (0 = 256) and `sweep` planes per direction (0: none;
    MEMORY), less scratch growing with occluders; 0 outside 16..4096 or past 256 planes. */
@@ -1141,7 +1141,7 @@ PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
    PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe as pvs_bake_run_task. Errors: INVALID_ARGUMENT
    (task out of range, NULL, a bit past objects or of an occluder-only object), BUFFER_TOO_SMALL, UNSUPPORTED (VOCC). */
 PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count,
-										 pvs_error *err);
+		pvs_error *err);
 /* SHRINK (alone or in AUTO): bake's synthesized occluders, tasks' path; NULL / PVS_SHRINK_AUTO if unprepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
@@ -1186,7 +1186,7 @@ PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
 /* Writes file (part file for shard) into out[0..capacity); *out_size gets size, also with BUFFER_TOO_SMALL. Errors:
    NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t capacity, size_t *out_size,
-									   pvs_error *err);
+		pvs_error *err);
 /* Frees; NULL ok. */
 PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
@@ -1237,7 +1237,7 @@ typedef struct pvs_file_desc {
    NULL only measures. Scratch from desc->allocator; thread-safe for distinct outputs. Errors: INVALID_ARGUMENT,
    BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size,
-								   pvs_error *err);
+		pvs_error *err);
 #endif /* PVS_RUNTIME_ONLY */
 
 /* Opened file: view of caller's bytes, which must stay alive, unchanged. Plain data, copy freely; read-only to callers,
@@ -1295,7 +1295,7 @@ PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_r
 /* Cell's virtual occluders, most effective first: returns their count (0 without VOCC), writes <= `capacity`. End
    points rounded to float; pvs_vocc_cull uses exact ones. */
 PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out,
-											uint32_t capacity);
+		uint32_t capacity);
 
 /* Cell's raw VOCC record: returns its occluder count (0 without VOCC), *bytes their 5 bytes each in file, *scale_code
    its scale (FILE FORMAT); either output NULL ok. */
@@ -1317,7 +1317,7 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
 /* Decodes cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): chain's key, then
    <= max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
 PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count,
-								   pvs_error *err);
+		pvs_error *err);
 
 /* Per object whose visibility changes: visible = 1 added, 0 removed. */
 typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
@@ -1336,7 +1336,7 @@ typedef struct pvs_cursor {
 /* Starts empty. bits, scratch: distinct, word_count >= PVS_BITSET_WORDS(object_count) words each. Errors:
    INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
 PVS_API pvs_result pvs_cursor_init(pvs_cursor *cursor, const pvs_file *file, pvs_word *bits, pvs_word *scratch,
-								   size_t word_count, pvs_error *err);
+		size_t word_count, pvs_error *err);
 /* Moves to `cell` (PVS_NO_CELL empties set), calling on_change (NULL ok) once per object entering or leaving: ascending
    ids after full decode, removals then additions (each ascending) after delta. INVALID_ARGUMENT: cell out of
    range. */
@@ -1409,7 +1409,7 @@ PVS_API const char *pvs_result_string(pvs_result r) {
 PVS_API uint32_t pvs_version(void) { return PVS_VERSION; }
 
 PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index, uint64_t offset, const char *fmt,
-								 ...) {
+		...) {
 	if (err) {
 		err->result = code;
 		err->index = index;
@@ -1721,7 +1721,7 @@ PVS__STATIC float pvs__random01(uint64_t *state) {
 /* Grows array of `elem`-byte elements to `need` (doubling), keeping first `used`; capped at `limit` if >= need. Returns
    it; NULL: *r set (old one still caller's). */
 PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
-								   size_t limit, size_t elem, pvs_result *r) {
+		size_t limit, size_t elem, pvs_result *r) {
 	size_t cap = *capacity ? *capacity : 64, bytes;
 	void *q;
 	if (need <= *capacity) return p;
@@ -1740,7 +1740,7 @@ PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capa
 }
 /* Grows *p so, in place: 0 (*r set) if it fails, *p then unchanged (the caller's to free). */
 PVS__STATIC int pvs__grow_array(const pvs_allocator *a, void **p, size_t *capacity, size_t used, size_t need,
-								size_t elem, pvs_result *r) {
+		size_t elem, pvs_result *r) {
 	void *q = pvs__grow_capped(a, *p, capacity, used, need, 0, elem, r);
 	if (q) *p = q;
 	return q != NULL;
@@ -1799,7 +1799,7 @@ PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_f
 
 /* Top-k: `heap` holds *count <= k of `size` <= 64 bytes, root ranks last; e enters if not full or before root. */
 PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e,
-								 pvs__before_fn before) {
+		pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
 	size_t i, c, n = *count;
 	if (n < k) {
@@ -1990,7 +1990,7 @@ typedef struct pvs__bake_method {
 	   intersects it with (parent PVS, earlier methods): may test only those. Adds PVS__BAKE_* to *flags. Thread-safe
 	   across tasks. */
 	pvs_result (*cell)(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
-					   const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err);
+			const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err);
 	/* Fills own file sections if bake runs it alone. NULL: none. */
 	void (*file)(const void *state, pvs_file_desc *fd);
 	/* NULL state ok. */
@@ -2073,7 +2073,7 @@ PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c
 
 /* Convex occluder bounds: vertex enumeration in box far past any vertex (vertex on it: unbounded; none: empty). */
 PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_box *out, int64_t index,
-										  pvs_error *err) {
+		pvs_error *err) {
 	float all[(PVS_MAX_OCCLUDER_PLANES + 6) * 4];
 	double reach = 1.0, tol;
 	uint32_t i, j, k, m, total, found = 0, on_guard = 0;
@@ -2083,10 +2083,10 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
 		double len = sqrt((double)p[0] * p[0] + (double)p[1] * p[1] + (double)p[2] * p[2]);
 		if (!pvs__finite(p[0]) || !pvs__finite(p[1]) || !pvs__finite(p[2]) || !pvs__finite(p[3]))
 			return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: plane %u is not finite",
-							 (long long)index, i);
+					(long long)index, i);
 		if (len == 0.0 || !(len < 1e30))
 			return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: plane %u has a zero normal",
-							 (long long)index, i);
+					(long long)index, i);
 		for (k = 0; k < 4; ++k) all[4 * i + k] = (float)(p[k] / len);
 		if (fabs(p[3] / len) + 1.0 > reach) reach = fabs(p[3] / len) + 1.0;
 	}
@@ -2131,14 +2131,14 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
 			}
 	if (!found)
 		return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the half-spaces are empty",
-						 (long long)index);
+				(long long)index);
 	if (on_guard)
 		return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the half-spaces are unbounded",
-						 (long long)index);
+				(long long)index);
 	PVS__FOR3(k)
 		if (!(b.min[k] < b.max[k]))
 			return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the volume is flat",
-							 (long long)index);
+					(long long)index);
 	*out = b;
 	return PVS_OK;
 }
@@ -2168,24 +2168,24 @@ PVS__STATIC int pvs__segments_meet_2d(const float *p1, const float *p2, const fl
 }
 
 PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32_t up, int64_t index, pvs_box *box,
-											  pvs_error *err) {
+		pvs_error *err) {
 	uint32_t i, j, n;
 	switch (o->kind) {
 	case PVS_OCCLUDER_BOX:
 		PVS__FOR3(i)
 			if (!pvs__finite(o->box.min[i]) || !pvs__finite(o->box.max[i]))
 				return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: box is not finite",
-								 (long long)index);
+						(long long)index);
 		PVS__FOR3(i)
 			if (!(o->box.min[i] < o->box.max[i]))
 				return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: box min >= max on axis %u",
-								 (long long)index, i);
+						(long long)index, i);
 		*box = o->box;
 		return PVS_OK;
 	case PVS_OCCLUDER_CONVEX:
 		if (!o->planes || o->plane_count < 4 || o->plane_count > PVS_MAX_OCCLUDER_PLANES)
 			return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: convex needs 4..%d planes, has %u",
-							 (long long)index, PVS_MAX_OCCLUDER_PLANES, o->plane_count);
+					(long long)index, PVS_MAX_OCCLUDER_PLANES, o->plane_count);
 		return pvs__convex_bounds(o->planes, o->plane_count, box, index, err);
 	case PVS_OCCLUDER_EXTRUSION: {
 		double area2 = 0.0;
@@ -2193,35 +2193,35 @@ PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32
 		n = o->footprint_count;
 		if (!o->footprint || n < 3 || n > PVS_MAX_FOOTPRINT_POINTS)
 			return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0,
-							 "occluder %lld: footprint needs 3..%d points, has %u", (long long)index,
-							 PVS_MAX_FOOTPRINT_POINTS, n);
+					"occluder %lld: footprint needs 3..%d points, has %u", (long long)index,
+					PVS_MAX_FOOTPRINT_POINTS, n);
 		if (!pvs__finite(o->base) || !pvs__finite(o->top))
 			return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: base or top is not finite",
-							 (long long)index);
+					(long long)index);
 		if (!(o->base < o->top))
 			return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: base >= top", (long long)index);
 		for (i = 0; i < 2 * n; ++i)
 			if (!pvs__finite(o->footprint[i]))
 				return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: footprint point %u is not finite",
-								 (long long)index, i / 2);
+						(long long)index, i / 2);
 		for (i = 0; i < n; ++i) {
 			const float *a = o->footprint + 2 * i, *b = o->footprint + 2 * ((i + 1) % n);
 			area2 += (double)a[0] * b[1] - (double)b[0] * a[1];
 			if (a[0] == b[0] && a[1] == b[1])
 				return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0,
-								 "occluder %lld: footprint points %u and %u coincide", (long long)index, i,
-								 (i + 1) % n);
+						"occluder %lld: footprint points %u and %u coincide", (long long)index, i,
+						(i + 1) % n);
 		}
 		if (area2 == 0.0)
 			return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: footprint has zero area",
-							 (long long)index);
+					(long long)index);
 		for (i = 0; i < n; ++i)
 			for (j = i + 2; j < n; ++j) {
 				if (i == 0 && j == n - 1) continue; /* adjacent through wrap */
 				if (pvs__segments_meet_2d(o->footprint + 2 * i, o->footprint + 2 * ((i + 1) % n), o->footprint + 2 * j,
-										  o->footprint + 2 * ((j + 1) % n)))
+						o->footprint + 2 * ((j + 1) % n)))
 					return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0,
-									 "occluder %lld: footprint edges %u and %u cross", (long long)index, i, j);
+							"occluder %lld: footprint edges %u and %u cross", (long long)index, i, j);
 			}
 		pvs__ground_axes(up, &u, &v);
 		*box = pvs__box_empty();
@@ -2238,7 +2238,7 @@ PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32
 	}
 	default:
 		return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: unknown kind %d", (long long)index,
-						 (int)o->kind);
+				(int)o->kind);
 	}
 }
 
@@ -2293,23 +2293,23 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 	for (i = 0; i < (size_t)desc->vertex_count * 3; ++i)
 		if (!pvs__finite(desc->positions[i]))
 			return pvs__fail(err, PVS_ERROR_NOT_FINITE, (int64_t)(i / 3), 0,
-							 "vertex %llu has a coordinate that is not finite", (unsigned long long)(i / 3));
+					"vertex %llu has a coordinate that is not finite", (unsigned long long)(i / 3));
 	for (i = 0; i < (size_t)desc->triangle_count * 3; ++i)
 		if (desc->indices[i] >= desc->vertex_count)
 			return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, (int64_t)(i / 3), 0,
-							 "triangle %llu uses vertex %u but there are %u vertices", (unsigned long long)(i / 3),
-							 desc->indices[i], desc->vertex_count);
+					"triangle %llu uses vertex %u but there are %u vertices", (unsigned long long)(i / 3),
+					desc->indices[i], desc->vertex_count);
 	for (o = 0; o < desc->object_count; ++o) {
 		const pvs_object_desc *ob = desc->objects + o;
 		if (ob->first_triangle > desc->triangle_count || ob->triangle_count > desc->triangle_count - ob->first_triangle)
 			return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, o, 0,
-							 "object %u: triangles %u..%u are past the %u triangles", o, ob->first_triangle,
-							 ob->first_triangle + ob->triangle_count, desc->triangle_count);
+					"object %u: triangles %u..%u are past the %u triangles", o, ob->first_triangle,
+					ob->first_triangle + ob->triangle_count, desc->triangle_count);
 		if (ob->triangle_count == 0 && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
 			return pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, o, 0, "object %u has no triangles", o);
 		if (ob->flags & ~7u || (ob->flags & 1u && ob->flags != 1u))
 			return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, o, 0,
-							 "object %u: flags %u: unknown, or occluder-only and more", o, ob->flags);
+					"object %u: flags %u: unknown, or occluder-only and more", o, ob->flags);
 	}
 	*floats = 0;
 	for (o = 0; o < desc->occluder_count; ++o) {
@@ -2340,7 +2340,7 @@ PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *de
 			double e1[3], e2[3], c[3];
 			if (s->triangle_object[t] != PVS_NO_OBJECT)
 				return pvs__fail(err, PVS_ERROR_OVERLAPPING_OBJECTS, o, 0, "objects %u and %u both claim triangle %u",
-								 s->triangle_object[t], o, t);
+						s->triangle_object[t], o, t);
 			s->triangle_object[t] = o;
 			e1[0] = (double)p1.x - p0.x; e1[1] = (double)p1.y - p0.y; e1[2] = (double)p1.z - p0.z;
 			e2[0] = (double)p2.x - p0.x; e2[1] = (double)p2.y - p0.y; e2[2] = (double)p2.z - p0.z;
@@ -2354,7 +2354,7 @@ PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *de
 		}
 		if (!any_area && ob->triangle_count && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
 			return pvs__fail(err, PVS_ERROR_DEGENERATE_OBJECT, o, 0, "object %u: all %u triangles have zero area", o,
-							 ob->triangle_count);
+					ob->triangle_count);
 		if (!any_area) s->object_boxes[o] = pvs__box_empty();
 	}
 	return PVS_OK;
@@ -2392,7 +2392,7 @@ PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *
 
 /* kD-trees over triangle boxes (zero-area emptied; see-through in own tree) and object boxes. */
 PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, pvs_box *tri_boxes,
-										pvs_error *err) {
+		pvs_error *err) {
 	pvs_kdtree_desc kd;
 	pvs_result r;
 	uint32_t t, see = 0;
@@ -2527,7 +2527,7 @@ PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *s) {
 		uint32_t kind = (uint32_t)d->kind;
 		h = pvs__fnv(pvs__fnv(pvs__fnv(h, &kind, 1), &d->box, 6), &d->base, 2);
 		h = pvs__fnv(pvs__fnv(h, d->planes, d->planes ? 4 * (size_t)d->plane_count : 0), d->footprint,
-					 d->footprint ? 2 * (size_t)d->footprint_count : 0);
+				d->footprint ? 2 * (size_t)d->footprint_count : 0);
 	}
 	return h ? h : 1u;
 }
@@ -2663,7 +2663,7 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 	if (t->item_count > PVS__KD_MAX_INDEX || n > (size_t)0xffffffffu - t->item_count)
 		return PVS__FAIL(b->err, PVS_ERROR_COUNT_OVERFLOW, "kD-tree: more than 2^30 item references");
 	items = (uint32_t *)pvs__grow_capped(&t->allocator, t->items, &t->item_capacity, t->item_count, t->item_count + n,
-										 b->item_limit, sizeof(uint32_t), &r);
+			b->item_limit, sizeof(uint32_t), &r);
 	if (!items)
 		return PVS__FAIL(b->err, r, "kD-tree leaf items (%llu)", (unsigned long long)(t->item_count + n));
 	t->items = items;
@@ -2680,7 +2680,7 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
    refs a split adds (l + r - n) and nodes (2 per split); split they can't pay: not taken (bigger leaf). Pools spent in
    build order: tree within them is as built without. */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
-									 uint32_t depth) {
+		uint32_t depth) {
 	pvs_kdtree *t = b->tree;
 	float ext[3], k0[3], k1[3], scale[3], inv_measure, inv_nb, best_cost, count_scale, split;
 	int axis, best_axis = -1, best_k = 0, area, nb, valid[3];
@@ -2777,7 +2777,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	   base + n (loop writes one slot past them) */
 	{
 		pvs__kdref *refs = (pvs__kdref *)pvs__grow_capped(&t->allocator, b->refs, &b->ref_capacity, base + n,
-														  base + n + nr + 1, b->ref_limit, sizeof(pvs__kdref), &r);
+				base + n + nr + 1, b->ref_limit, sizeof(pvs__kdref), &r);
 		if (!refs) return PVS__FAIL(b->err, r, "kD-tree build references");
 		b->refs = refs;
 	}
@@ -2799,7 +2799,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	{
 		pvs__kdnode *nodes =
 			(pvs__kdnode *)pvs__grow_capped(&t->allocator, t->nodes, &t->node_capacity, t->node_count,
-											(size_t)t->node_count + 2, b->node_limit, sizeof(pvs__kdnode), &r);
+					(size_t)t->node_count + 2, b->node_limit, sizeof(pvs__kdnode), &r);
 		if (!nodes) return PVS__FAIL(b->err, r, "kD-tree nodes (%u)", t->node_count + 2);
 		t->nodes = nodes;
 	}
@@ -2845,7 +2845,7 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 		PVS__FOR3(k) {
 			if (!pvs__finite(bx->min[k]) || !pvs__finite(bx->max[k]))
 				return pvs__fail(err, PVS_ERROR_NOT_FINITE, i, 0, "kD-tree box %u has a coordinate that is not finite",
-								 i);
+						i);
 			if (bx->min[k] > bx->max[k]) empty = 1;
 		}
 		m += !empty;
@@ -2876,13 +2876,13 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	b->ref_limit = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX + 1) * m + 2;
 	/* first guesses; all grow on demand within limits */
 	t->nodes = (pvs__kdnode *)pvs__grow_capped(&a, NULL, &t->node_capacity, 0, 1 + (size_t)m / 2, b->node_limit,
-											   sizeof(pvs__kdnode), &r);
+			sizeof(pvs__kdnode), &r);
 	if (t->nodes)
 		t->items = (uint32_t *)pvs__grow_capped(&a, NULL, &t->item_capacity, 0, 1 + (size_t)m + m / 2, b->item_limit,
-												sizeof(uint32_t), &r);
+				sizeof(uint32_t), &r);
 	if (t->items)
 		b->refs = (pvs__kdref *)pvs__grow_capped(&a, NULL, &b->ref_capacity, 0, 1 + (size_t)m + m / 2, b->ref_limit,
-												 sizeof(pvs__kdref), &r);
+				sizeof(pvs__kdref), &r);
 	if (!b->refs) { r = PVS__FAIL(err, r, "kD-tree arrays for %u boxes", m); goto done; }
 	m = 0;
 	for (i = 0; i < desc->count; ++i) {
@@ -2933,7 +2933,7 @@ PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *t) {
 
 /* PVS_VISIT_ALL: non-empty leaves under inner node `node` (cell `box`), depth first, distance -1; STOP if told. */
 PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, const pvs_box *box,
-										pvs_kdtree_visit_fn visit, void *user) {
+		pvs_kdtree_visit_fn visit, void *user) {
 	struct {
 		uint32_t node;
 		pvs_box box;
@@ -2969,7 +2969,7 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
 /* Approximate occlusion sweep (Bittner 2002 §3.2): priority queue on nodes' min distance to source (never less for
    child). `heap`: (node_count + 1) / 2 entries; `node` (NULL ok) gets visited node's index per `visit`. */
 PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
-							   pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
+		pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
 	size_t n = 1;
 	int k;
 	if (t->bounds.min[0] > t->bounds.max[0]) return;
@@ -3009,7 +3009,7 @@ PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__
 }
 
 PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, void *scratch, size_t scratch_size,
-									pvs_kdtree_visit_fn visit, void *user) {
+		pvs_kdtree_visit_fn visit, void *user) {
 	size_t cap;
 	int k;
 	if (!t || !source || !visit) return PVS_ERROR_INVALID_ARGUMENT;
@@ -3026,7 +3026,7 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
 
 /* Stack walk (Havran's TA_rec_B family), double; leaf ranges widen by PVS__KD_RAY_TOL: no touched leaf skipped. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const float dir[3], float tmax_f,
-							pvs_kdtree_ray_fn fn, void *user) {
+		pvs_kdtree_ray_fn fn, void *user) {
 	struct {
 		uint32_t node;
 		double tn, tf;
@@ -3321,7 +3321,7 @@ typedef struct pvs__see_through {
 } pvs__see_through;
 
 PVS__STATIC float pvs__see_through_leaf(void *user, const uint32_t *items, uint32_t count, float t_enter,
-										 float t_exit) {
+		float t_exit) {
 	pvs__see_through *st = (pvs__see_through *)user;
 	uint32_t i;
 	double t;
@@ -3335,7 +3335,7 @@ PVS__STATIC float pvs__see_through_leaf(void *user, const uint32_t *items, uint3
 }
 
 PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3], const float dir[3], float tmax,
-									   pvs_word *visible) {
+		pvs_word *visible) {
 	pvs__see_through st;
 	double o[3], d[3];
 	int k;
@@ -3463,7 +3463,7 @@ PVS__STATIC float pvs__f4_hmax2(__m128 a, __m128 b) {
 }
 /* 4 (x, y, z, -) vertices, 4 readable floats each, to X, Y, Z lanes */
 PVS__STATIC void pvs__f4_xyz(const float *a, const float *b, const float *c, const float *d, __m128 *X, __m128 *Y,
-							 __m128 *Z) {
+		__m128 *Z) {
 	__m128 va = _mm_loadu_ps(a), vb = _mm_loadu_ps(b), vc = _mm_loadu_ps(c), vd = _mm_loadu_ps(d);
 	__m128 ab0 = _mm_unpacklo_ps(va, vb), cd0 = _mm_unpacklo_ps(vc, vd);
 	*X = _mm_movelh_ps(ab0, cd0);
@@ -3512,14 +3512,14 @@ PVS__STATIC float32x4_t pvs__f4_min(float32x4_t a, float32x4_t b) { return vbslq
 PVS__STATIC float32x4_t pvs__f4_max(float32x4_t a, float32x4_t b) { return vbslq_f32(vcgtq_f32(a, b), a, b); }
 PVS__STATIC int pvs__m4_bits(uint32x4_t m) {
 	return (int)((vgetq_lane_u32(m, 0) & 1u) | (vgetq_lane_u32(m, 1) & 2u) | (vgetq_lane_u32(m, 2) & 4u) |
-				 (vgetq_lane_u32(m, 3) & 8u));
+			(vgetq_lane_u32(m, 3) & 8u));
 }
 PVS__STATIC int32x4_t pvs__i4_shl_ones(int32x4_t n) { /* shift >= 32: 0 */
 	n = vminq_s32(vmaxq_s32(n, vdupq_n_s32(0)), vdupq_n_s32(32));
 	return vreinterpretq_s32_u32(vshlq_u32(vdupq_n_u32(~0u), n));
 }
 PVS__STATIC void pvs__f4_xyz(const float *a, const float *b, const float *c, const float *d, float32x4_t *X,
-							 float32x4_t *Y, float32x4_t *Z) {
+		float32x4_t *Y, float32x4_t *Z) {
 	*X = pvs__f4_set4(a[0], b[0], c[0], d[0]);
 	*Y = pvs__f4_set4(a[1], b[1], c[1], d[1]);
 	*Z = pvs__f4_set4(a[2], b[2], c[2], d[2]);
@@ -3699,7 +3699,7 @@ typedef struct pvs__rsetup {
 /* Reference pixel rule (scalar loop, SIMD tails): inside all edges (rk: at column i0), clamped plane depth if
    nearer. 1 if written. */
 PVS__STATIC int pvs__raster_pixel(const pvs__rsetup *s, const float *rk, float rz, float *row, int32_t i,
-								  int occluder) {
+		int occluder) {
 	float fi = (float)(i - s->i0), d;
 	int e;
 	for (e = 0; e < s->edges; ++e)
@@ -3790,7 +3790,7 @@ PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a
 /* Most (least: least) loops can write over pixels [a0, a1] x [b0, b1] (relative), slack included: affine depth's
    extreme corner (rounding monotone). */
 PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1,
-									  int occluder, int least) {
+		int occluder, int least) {
 	double pa = s->za, pb = s->zb, z,
 		   sl = 3.814697265625e-06 * (pvs__dabs(s->zk) + pvs__dabs(pa) * a1 + pvs__dabs(pb) * b1) + 1e-30;
 	if (least) z = (double)s->zk + pvs__dmin(pa * a0, pa * a1) + pvs__dmin(pb * b0, pb * b1) - sl;
@@ -3800,7 +3800,7 @@ PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t 
 
 /* Pixel loops by 4 x 4 tile blocks, then tiles, skipping those as near as polygon or outside an edge. */
 PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder,
-								 int simd, float zbound) {
+		int simd, float zbound) {
 	uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, bx, by;
 	int32_t a0, a1, b0, b1;
 	int wrote, inside, edges, block;
@@ -3868,7 +3868,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 
 /* Pixel rectangle gets `d` where nearer (degenerate occludees). */
 PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *tile_min, int32_t i0, int32_t i1,
-								  int32_t j0, int32_t j1, float d) {
+		int32_t j0, int32_t j1, float d) {
 	int32_t i, j;
 	uint32_t tx, ty;
 	for (j = j0; j <= j1; ++j) {
@@ -3886,8 +3886,8 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
    fi <= iw, fj <= jh, from largest fan triangle: p = za, zb, zk (z = zk + za fi + zb fj), setup error bound; 0 if no
    fan triangle has area. */
 PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double *z, int n, double ox, double oy,
-								  double iw, double jh, double span, double mag, double zmag, double perr, double zerr,
-								  double p[4]) {
+		double iw, double jh, double span, double mag, double zmag, double perr, double zerr,
+		double p[4]) {
 	int i, best = -1;
 	double amax = 0.0, x1, y1, z1, x2, y2, z2, det, za, zb;
 	for (i = 1; i + 1 < n; ++i) {
@@ -3910,8 +3910,8 @@ PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double
 /* Depth plane bound over those pixels (pvs__raster_plane): (zk + zb fj) + za fi in float <= (occluder) or >= (occludee)
    plane's extreme over pixel. None: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
 PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy,
-									double iw, double jh, double span, double mag, double zmag, double perr,
-									double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
+		double iw, double jh, double span, double mag, double zmag, double perr,
+		double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
 	double p[4];
 	*za_out = *zb_out = 0.0f;
 	*zk_out = occluder ? -FLT_MAX : FLT_MAX;
@@ -3961,7 +3961,7 @@ PVS__STATIC int pvs__poly_usable(const pvs__polyext *e, double span) {
    + k. Mode 0 occludee, 1 occluder, 2 tile loops (own float margin). 1: edge to test, 0: all pixels pass (or no
    length), -1: none does. */
 PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n, int flip, double ox, double oy,
-								 double iw, double jh, double mag, double perr, int mode, double e[3]) {
+		double iw, double jh, double mag, double perr, int mode, double e[3]) {
 	int j = i + 1 == n ? 0 : i + 1;
 	double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
 	if (flip) { a = -a; b = -b; }
@@ -3988,7 +3988,7 @@ PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n,
 
 /* Convex polygon (pixels x, y; affine depth z) into W x H buffer, keeping nearer depth. */
 PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *tile_min, const double *x, const double *y,
-								  const double *z, int n, int occluder, int simd, double perr, double zerr) {
+		const double *z, int n, int occluder, int simd, double perr, double zerr) {
 	pvs__rsetup s;
 	pvs__polyext e;
 	int i;
@@ -4141,7 +4141,7 @@ PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const fl
 PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
 	pvs__i4 vx = pvs__i4_set1(x0), m;
 	m = pvs__i4_andn(pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_load(L), vx)),
-					 pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_add(pvs__i4_load(R), pvs__i4_set1(1)), vx)));
+			pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_add(pvs__i4_load(R), pvs__i4_set1(1)), vx)));
 	pvs__i4_store(out, m);
 	return pvs__m4_bits(pvs__i4_eq(m, pvs__i4_set1(0))) != 15;
 }
@@ -4252,7 +4252,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, con
 			}
 			z0 = tl->z0;
 			pvs__tile_merge(tl, cov, zt, (uint32_t)ty == r->th - 1 ? 15u << r->ypad : 0u,
-							(uint32_t)tx == r->tw - 1 ? r->xpad : 0u);
+					(uint32_t)tx == r->tw - 1 ? r->xpad : 0u);
 			if (tl->z0 != z0)
 				r->bdirty[(size_t)(ty >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
 		}
@@ -4262,7 +4262,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, con
 /* Edges over t's inner range, as pvs__raster_poly: steep ones become left [0, nl), right [nl, ne) edges,
    near-horizontal ones narrow rows [jlo, jhi]. 0 if no pixel passes one. */
 PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag,
-								double perr) {
+		double perr) {
 	double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0);
 	double rxi[PVS__RASTER_MAXV], rs[PVS__RASTER_MAXV], rcl[PVS__RASTER_MAXV];
 	float rsf[PVS__RASTER_MAXV], rm[PVS__RASTER_MAXV];
@@ -4316,7 +4316,7 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 /* Depth plane over t's range (as pvs__raster_zplane) less setup error, zm loops' float margin, zlo clamp; unusable: zk
    = -FLT_MAX. */
 PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
-								  double mag, double zmag, double perr, double zerr, double zlo) {
+		double mag, double zmag, double perr, double zerr, double zlo) {
 	double iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), p[4];
 	t->zlo = pvs__f_down(zlo);
 	t->za = t->zb = t->zm = 0.0f;
@@ -4336,7 +4336,7 @@ PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *
 
 /* Occluder polygon into tiles; setup, margins as pvs__raster_poly's. */
 PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr,
-								double zerr, const pvs__tlim *lim) {
+		double zerr, const pvs__tlim *lim) {
 	pvs__tpoly t;
 	pvs__polyext e;
 	double span, dx, zlo;
@@ -4404,7 +4404,7 @@ PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) 
 
 /* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh), depth *z; *perr, *zerr grow to cover error. */
 PVS__STATIC void pvs__raster_project(const pvs__cv *v, double hw, double hh, double *x, double *y, double *z,
-									 double *perr, double *zerr) {
+		double *perr, double *zerr) {
 	double iw = 1.0 / v->c[3], e = v->e * iw;
 	*x = (v->c[0] * iw + 1.0) * hw;
 	*y = (v->c[1] * iw + 1.0) * hh;
@@ -4469,7 +4469,7 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
 	} else {
 		pvs__raster_occludee_begin(r);
 		pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, occluder,
-						 !(r->flags & PVS_RASTER_SCALAR), perr, zerr);
+				!(r->flags & PVS_RASTER_SCALAR), perr, zerr);
 	}
 }
 
@@ -4492,7 +4492,7 @@ PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
 }
 
 PVS__STATIC int pvs__tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder,
-						 const pvs__tlim *lim) {
+		const pvs__tlim *lim) {
 	pvs__cv v[3];
 	int k;
 	PVS__FOR3(k)
@@ -4509,9 +4509,9 @@ PVS__STATIC int pvs__tri(pvs_raster *r, const float *p0, const float *p1, const 
 	return 0;
 }
 PVS__TWIN(int, pvs__tri, (pvs_raster *r, const float *a, const float *b, const float *c, int o, const pvs__tlim *lim),
-		  (r, a, b, c, o, lim))
+		(r, a, b, c, o, lim))
 PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder,
-								const pvs__tlim *lim) {
+		const pvs__tlim *lim) {
 	PVS__ISA(r, pvs__tri, (r, p0, p1, p2, occluder, lim));
 }
 
@@ -4525,7 +4525,7 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
    zmax: their whole pixels in map (box[8 k + l]: i0, i1, j0, j1), nearest vertex depth. Lanes partly behind near or eye
    plane drawn untested (clipped later) unless wholly behind one or past a side plane. */
 PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][3], unsigned *test, int32_t *box,
-									float *zmax, int n, int cull) {
+		float *zmax, int n, int cull) {
 	const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
 	int l, k;
 	unsigned draw = 0;
@@ -4753,8 +4753,8 @@ typedef char pvs__qmask_holds_bands[PVS_RASTER_PARTS == 8 ? 1 : -1]; /* band per
    lanes, 2 halves of 4, or scalar: same bits); part < PVS_RASTER_PARTS: kept for bands, else drawn unless hidden;
    PVS_RASTER_PARTS + 1: mesh piece too, until full. Returns where it stopped. */
 PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
-										   uint32_t stride, const uint32_t *indices, const pvs__occsel *tris,
-										   uint32_t t0, uint32_t t1, int cull, uint32_t draw, uint32_t part) {
+		uint32_t stride, const uint32_t *indices, const pvs__occsel *tris,
+		uint32_t t0, uint32_t t1, int cull, uint32_t draw, uint32_t part) {
 	uint32_t t, l, k, id[8], vl;
 	const float *v[8][3];
 	float last[4], zmax[8];
@@ -4828,7 +4828,7 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 
 /* Triangles one by one (pvs__tri_corners; out-of-range vertices: skipped); tiled occluders via prefilter. */
 PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
-								  const pvs__occsel *tris, uint32_t count, int occluder) {
+		const pvs__occsel *tris, uint32_t count, int occluder) {
 	uint32_t t, q[3];
 	if (occluder && r->tiled) {
 		pvs__raster_occluders(r, pos, vc, r->vstride, indices, tris, 0, count, r->cull, 0, PVS_RASTER_PARTS);
@@ -5002,9 +5002,9 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
 		if (t->a[e] != 0.0 || t->b[e] != 0.0) {
 			double m = t->e[e] + t->wide;
 			pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), -m, 1,
-						  lo + e, hi + e);
+					lo + e, hi + e);
 			pvs__mesh_cut(-t->a[e], -(t->b[e] * dj + t->k[e] + pvs__dmin(0.0, t->a[e]) + pvs__dmin(0.0, t->b[e])), -m,
-						  1, lo + e, hi + e);
+					1, lo + e, hi + e);
 		}
 		if (!t->bnd[e] && lo[e] <= hi[e]) u = lo[e] < u ? lo[e] : u, v = hi[e] > v ? hi[e] : v;
 	}
@@ -5016,7 +5016,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
 		for (e = 0; e < t->n; ++e)
 			if (t->a[e] != 0.0 || t->b[e] != 0.0)
 				pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]),
-							  t->e[e], 0, &clo, &chi);
+						t->e[e], 0, &clo, &chi);
 	}
 	for (e = 0; e < t->n; ++e) {
 		if (t->bnd[e]) lo[e] = lo[e] > u ? lo[e] : u, hi[e] = hi[e] < v ? hi[e] : v;
@@ -5126,7 +5126,7 @@ PVS__STATIC uint32_t pvs__mesh_weld(const pvs_raster *r, uint32_t hs, const floa
 /* Triangle t (q: vertex indices): welds corners (r->mcid), transforms, clips, prepares (r->mt[t]), marks corners
    against clip planes (r->mvst). r->mgrp[t]: facing, or 0 (bad, degenerate, clipped, unsure). */
 PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs,
-							   uint32_t t) {
+		uint32_t t) {
 	uint32_t k, *cid = r->mcid;
 	const float *p[3];
 	pvs__cv v[3];
@@ -5225,7 +5225,7 @@ PVS__STATIC int pvs__mesh_low(const pvs__mtri *t, double ox, double oy, double i
 	pvs__polyext x;
 	if (!pvs__poly_extent(t->x, t->y, t->z, t->n, &x) ||
 		!pvs__raster_plane(t->x, t->y, t->z, t->n, ox, oy, iw, jh, x.xmax - x.xmin + x.ymax - x.ymin, x.mag, x.zmag,
-						   t->perr, t->zerr, p) ||
+			t->perr, t->zerr, p) ||
 		!(p[3] < 1e30))
 		return 0;
 	p[2] -= p[3];
@@ -5282,7 +5282,7 @@ PVS__STATIC void pvs__mesh_edge(pvs_raster *r, uint32_t ta, int e, uint32_t tb) 
 	for (i = n = 0; i < k; ++i) {
 		const double *q = pts + 2 * idx[i], *f = pts + 2 * idx[0];
 		if (n && (pvs__dabs(q[0] - hx[n - 1]) + pvs__dabs(q[1] - hy[n - 1]) < 0.0625 ||
-				  (i + 1 == k && pvs__dabs(q[0] - f[0]) + pvs__dabs(q[1] - f[1]) < 0.0625)))
+				(i + 1 == k && pvs__dabs(q[0] - f[0]) + pvs__dabs(q[1] - f[1]) < 0.0625)))
 			continue;
 		if (n == PVS__RASTER_MAXV) return;
 		hx[n] = q[0], hy[n++] = q[1];
@@ -5356,7 +5356,7 @@ PVS__STATIC void pvs__mesh_fast(pvs_raster *r, uint32_t n) {
 
 /* One mesh piece, triangles r->morder[0..r->mcn): prepared and paired (rows 0), or row pass (1). */
 PVS__STATIC int pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
-								const pvs__occsel *tris, int rows) {
+		const pvs__occsel *tris, int rows) {
 	uint32_t hs = 16, t, h, n = r->mcn;
 	if (rows) {
 		pvs__mesh_draw(r, n, 1);
@@ -5375,12 +5375,12 @@ PVS__STATIC int pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, co
 	return 0;
 }
 PVS__TWIN(int, pvs__mesh_piece,
-		  (pvs_raster *r, const float *p, uint32_t vc, const uint32_t *ix, const pvs__occsel *t, int rows),
-		  (r, p, vc, ix, t, rows))
+		(pvs_raster *r, const float *p, uint32_t vc, const uint32_t *ix, const pvs__occsel *t, int rows),
+		(r, p, vc, ix, t, rows))
 
 /* Occluder meshes (`indices` NULL: vertices in order): drawn as triangles, then in pieces of mesh_cap. */
 PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
-						   const pvs__occsel *tris, uint32_t count) {
+		const pvs__occsel *tris, uint32_t count) {
 	uint32_t t = 0;
 	if (!count || !vc) return;
 	if (!r->tiled) {
@@ -5391,7 +5391,7 @@ PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const u
 		r->mcn = 0;
 		if (r->tiled) /* as pvs__raster_tris, collecting piece */
 			t = pvs__raster_occluders(r, pos, vc, r->vstride, indices, tris, t, count, r->cull, 0,
-									  PVS_RASTER_PARTS + 1);
+					PVS_RASTER_PARTS + 1);
 		for (; !r->tiled && t < count && r->mcn < r->mesh_cap; ++t) r->morder[r->mcn++] = t;
 		PVS__ISA(r, pvs__mesh_piece, (r, pos, vc, indices, tris, 0));
 		pvs__mesh_fast(r, r->mcn); /* not in twin: its draws stay out of flatten */
@@ -5517,13 +5517,13 @@ PVS_API void pvs_raster_clear(pvs_raster *r) {
 }
 
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, uint32_t vertex_count,
-										const uint32_t *indices, uint32_t count, pvs_raster_mode mode) {
+		const uint32_t *indices, uint32_t count, pvs_raster_mode mode) {
 	pvs_raster_draw_desc d = {positions, 0, vertex_count, indices, count, mode, 0};
 	return pvs_raster_draw(r, &d);
 }
 
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *r, const float *positions, uint32_t vertex_count,
-								   const uint32_t *indices, uint32_t count) {
+		const uint32_t *indices, uint32_t count) {
 	pvs_raster_draw_desc d = {positions, 0, vertex_count, indices, count, PVS_RASTER_OCCLUDER, PVS_DRAW_MESH};
 	return pvs_raster_draw(r, &d);
 }
@@ -5555,7 +5555,7 @@ PVS_API pvs_result pvs_raster_bin(pvs_raster *r, const pvs_raster_draw_desc *dra
 		uint32_t a = t0 > f ? t0 - f : 0, b = t1 - f < q->triangle_count ? t1 - f : q->triangle_count;
 		if (a < b)
 			pvs__raster_occluders(r, q->positions, q->vertex_count, PVS__STRIDE(q), q->indices, NULL, a,
-								  b, pvs__draw_cull(r, q), d, part);
+					b, pvs__draw_cull(r, q), d, part);
 	}
 	return PVS_OK;
 }
@@ -5586,7 +5586,7 @@ PVS_API void pvs_raster_draw_band(pvs_raster *r, const pvs_raster_draw_desc *dra
 				s = PVS__STRIDE(d);
 				if (c[0] < d->vertex_count && c[1] < d->vertex_count && c[2] < d->vertex_count)
 					pvs__raster_tri(r, d->positions + (size_t)c[0] * s, d->positions + (size_t)c[1] * s,
-									d->positions + (size_t)c[2] * s, 1, &lim);
+							d->positions + (size_t)c[2] * s, 1, &lim);
 			}
 		}
 	p = (uint32_t)PVS__QBAND(r, band + 1) >> PVS__BLOCK_SHIFT;
@@ -5606,7 +5606,7 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *r, const pvs_raster_draw_desc *d)
 	if (f & PVS_DRAW_MESH) pvs__mesh(r, d->positions, d->vertex_count, d->indices, NULL, d->triangle_count);
 	else
 		pvs__raster_tris(r, d->positions, d->vertex_count, d->indices, NULL, d->triangle_count,
-						 d->mode == PVS_RASTER_OCCLUDER);
+				d->mode == PVS_RASTER_OCCLUDER);
 	r->vstride = 3, r->cull = 0;
 	return PVS_OK;
 }
@@ -5624,7 +5624,7 @@ PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t
    smax (into dmax) over texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of pw x ph level below, clamped;
    mx, my = 1 halve that axis. `simd` (SSE2, both halved) pairs differently: same save +0/-0 ties (or NaN). */
 PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32_t pw, uint32_t ph, float *dmin,
-									float *dmax, uint32_t w, uint32_t h, uint32_t mx, uint32_t my, int simd) {
+		float *dmax, uint32_t w, uint32_t h, uint32_t mx, uint32_t my, int simd) {
 	uint32_t x, y;
 	(void)simd;
 	for (y = 0; y < h; ++y) {
@@ -5641,12 +5641,12 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 					v0 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x), _mm_loadu_ps(n1 + 2 * x));
 					v1 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x + 4), _mm_loadu_ps(n1 + 2 * x + 4));
 					_mm_storeu_ps(on + x, _mm_min_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0)),
-													 _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
+							_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
 				}
 				v0 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x), _mm_loadu_ps(m1 + 2 * x));
 				v1 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x + 4), _mm_loadu_ps(m1 + 2 * x + 4));
 				_mm_storeu_ps(om + x, _mm_max_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0)),
-												 _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
+						_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
 			}
 #endif
 		for (; x < w; ++x) {
@@ -5676,7 +5676,7 @@ PVS__STATIC void pvs__tile_pyramid(pvs_raster *r) {
 	}
 	for (l = 1; l <= r->tlevels; ++l)
 		pvs__pyramid_level(r->tlmin[l - 1], r->tlmax[l - 1], r->tlw[l - 1], r->tlh[l - 1], r->tlmin[l], r->tlmax[l],
-						   r->tlw[l], r->tlh[l], r->tsx[l] != r->tsx[l - 1], r->tsy[l] != r->tsy[l - 1], 0);
+				r->tlw[l], r->tlh[l], r->tsx[l] != r->tsx[l - 1], r->tsy[l] != r->tsy[l - 1], 0);
 	r->pyramid_valid = 2;
 }
 
@@ -5690,13 +5690,13 @@ PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
 	r->lmin[0] = r->lmax[0] = r->depth;
 	for (l = 1; l <= r->levels; ++l)
 		pvs__pyramid_level(r->lmin[l - 1], r->lmax[l - 1], r->lw[l - 1], r->lh[l - 1], r->lmin[l], r->lmax[l], r->lw[l],
-						   r->lh[l], 1, 1, !(r->flags & PVS_RASTER_SCALAR));
+				r->lh[l], 1, 1, !(r->flags & PVS_RASTER_SCALAR));
 	r->pyramid_valid = 1;
 }
 
 /* 1 if level-0 pixel of [x0, x1] x [y0, y1] under texel (tx, ty) of level l stores depth <= d. */
 PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, int32_t x0, int32_t y0,
-									 int32_t x1, int32_t y1, float d) {
+		int32_t x1, int32_t y1, float d) {
 	uint32_t w = r->lw[l];
 	float lo = r->lmin[l][ty * w + tx], hi = r->lmax[l][ty * w + tx];
 	uint32_t cx, cy, cx0, cx1, cy0, cy1, pw, ph;
@@ -5719,7 +5719,7 @@ PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t t
 
 /* pvs__pyramid_visible on tile pyramid; at tile, layer mask decides exactly. px: pixels, tr: their tiles. */
 PVS__STATIC int pvs__tpyr_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *px,
-								  const uint32_t *tr, float d) {
+		const uint32_t *tr, float d) {
 	uint32_t w = r->tlw[l], cx, cy, cx0, cx1, cy0, cy1;
 	float lo = r->tlmin[l][ty * w + tx], hi = r->tlmax[l][ty * w + tx];
 	if (lo > d) return 0;
@@ -5771,7 +5771,7 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
 		tr[2] = (uint32_t)x1 >> PVS__TW_SHIFT; tr[3] = (uint32_t)y1 >> PVS__TH_SHIFT;
 		/* finest level where rect spans <= 2 x 2 texels */
 		while (l < r->tlevels &&
-			   ((tr[2] >> r->tsx[l]) - (tr[0] >> r->tsx[l]) > 1 || (tr[3] >> r->tsy[l]) - (tr[1] >> r->tsy[l]) > 1))
+				((tr[2] >> r->tsx[l]) - (tr[0] >> r->tsx[l]) > 1 || (tr[3] >> r->tsy[l]) - (tr[1] >> r->tsy[l]) > 1))
 			++l;
 		for (ty = tr[1] >> r->tsy[l]; ty <= tr[3] >> r->tsy[l]; ++ty)
 			for (tx = tr[0] >> r->tsx[l]; tx <= tr[2] >> r->tsx[l]; ++tx)
@@ -5779,7 +5779,7 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
 		return 0;
 	}
 	while (l < r->levels &&
-		   (((uint32_t)x1 >> l) - ((uint32_t)x0 >> l) > 1 || ((uint32_t)y1 >> l) - ((uint32_t)y0 >> l) > 1))
+			(((uint32_t)x1 >> l) - ((uint32_t)x0 >> l) > 1 || ((uint32_t)y1 >> l) - ((uint32_t)y0 >> l) > 1))
 		++l;
 	for (ty = (uint32_t)y0 >> l; ty <= (uint32_t)y1 >> l; ++ty)
 		for (tx = (uint32_t)x0 >> l; tx <= (uint32_t)x1 >> l; ++tx)
@@ -5879,7 +5879,7 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 	t0 = pvs__f4_set1(E->nz);
 	t1 = pvs__f4_set1(E->w2);
 	if (pvs__m4_bits(pvs__m4_or(pvs__m4_or(pvs__f4_lt(q0, t0), pvs__f4_le(c0[3], t1)),
-								pvs__m4_or(pvs__f4_lt(q1, t0), pvs__f4_le(c1[3], t1)))))
+			pvs__m4_or(pvs__f4_lt(q1, t0), pvs__f4_le(c1[3], t1)))))
 		return 1;
 	rw0 = pvs__f4_div(pvs__f4_set1(1.0f), c0[3]);
 	rw1 = pvs__f4_div(pvs__f4_set1(1.0f), c1[3]);
@@ -5955,7 +5955,7 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
 		res = pvs__box_scalar(r, b, &E, &o);
 	if (res != 2) return res;
 	if (!(o.rmax < 1e30f && o.nx < 1e30f && o.ny < 1e30f && o.nz < 1e30f && o.xmin > -1e30f && o.xmax < 1e30f &&
-		  o.ymin > -1e30f && o.ymax < 1e30f))
+			o.ymin > -1e30f && o.ymax < 1e30f))
 		return -1;
 	ex = hw * (0.7 * (e[0] + o.nx * e[3]) * o.rmax + 3e-7 * (o.nx + 1.0));
 	ey = hh * (0.7 * (e[1] + o.ny * e[3]) * o.rmax + 3e-7 * (o.ny + 1.0));
@@ -6123,7 +6123,7 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
 
 /* Cull map cell range of box (clamped); 0 unless wholly in region. */
 PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int32_t *i0, int32_t *j0, int32_t *i1,
-							  int32_t *j1) {
+		int32_t *j1) {
 	int u, v;
 	double su, sv, a0, a1, b0, b1, eu, ev;
 	pvs__ground_axes((uint32_t)up, &u, &v);
@@ -6229,7 +6229,7 @@ PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 
 /* Cull map object grid: w x h ground cells (Wonka 1999 §4.1), highest top per cell (§4.3). */
 PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h,
-												 pvs_error *err) {
+		pvs_error *err) {
 	int u, v, up = (int)s->up_axis;
 	size_t cells = (size_t)w * h, total = 0, i;
 	uint32_t o, l;
@@ -6297,7 +6297,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 	if ((desc->cull_map_width == 0) != (desc->cull_map_height == 0) || desc->cull_map_width > 4096 ||
 		desc->cull_map_height > 4096)
 		return PVS__BAD_ARG(err, "cull map size %ux%u is not in 1..4096 (or 0x0)", desc->cull_map_width,
-							desc->cull_map_height);
+				desc->cull_map_height);
 	if (desc->cull_map_width && !desc->scene)
 		return PVS__BAD_ARG(err, "a cull map needs the scene");
 	a = desc->allocator;
@@ -6379,7 +6379,7 @@ PVS__STATIC void pvs__occ_push(pvs__occsel *h, uint32_t *n, uint32_t k, float sc
 
 /* Area-angle measure A |N . V| / |D|^2 (Bittner 2002 §4.5), V unit direction to centre D, two-sided. */
 PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
-										uint32_t count) {
+		uint32_t count) {
 	pvs__selctx *c = (pvs__selctx *)user;
 	uint32_t i;
 	if (distance > c->max_dist) return PVS_VISIT_STOP;
@@ -6429,7 +6429,7 @@ typedef struct pvs__cullctx {
 } pvs__cullctx;
 
 PVS__STATIC pvs_visit pvs__cull_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
-									  uint32_t count) {
+		uint32_t count) {
 	pvs__cullctx *c = (pvs__cullctx *)user;
 	uint32_t i;
 	(void)distance;
@@ -6453,7 +6453,7 @@ PVS__STATIC pvs_visit pvs__cull_visit(void *user, const pvs_box *node_box, float
 
 /* Checks shared by both culling calls; sets camera matrix. */
 PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, pvs_word *visible,
-									   pvs_error *err) {
+		pvs_error *err) {
 	float m[16];
 	pvs_result res;
 	if (!r || !s || !cam || !visible)
@@ -6480,7 +6480,7 @@ PVS__STATIC float pvs__cull_distance(const pvs_scene *s, const pvs_cull_params *
 /* Draws <= p->scene_occluders triangles within p->occluder_distance, best first by Bittner 2002 §4.5's measure; meshes
    with PVS_CULL_SCENE_MESH. Returns count. */
 PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
-											   const pvs_cull_params *p) {
+		const pvs_cull_params *p) {
 	pvs__selctx sc;
 	pvs_box src;
 	double len;
@@ -6516,7 +6516,7 @@ PVS__STATIC void pvs__wall_quad(const pvs_occluder_desc *o, uint32_t j, int u, i
 
 /* Extrusion walls as occluders: meshes of <= 32 walls sharing vertical edges, unless `separate`. Returns triangles. */
 PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc *o, int u, int v, int up,
-										 int separate) {
+		int separate) {
 	uint32_t j, drawn = 0;
 	if (!separate) {
 		float wp[2 * 33][3];
@@ -6549,7 +6549,7 @@ PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc 
 
 /* Occluder volumes within p->occluder_distance (meshes unless PVS_CULL_SEPARATE_TRIANGLES); returns triangles. */
 PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
-									   const pvs_cull_params *p) {
+		const pvs_cull_params *p) {
 	static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
 									 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
 	float dist = pvs__cull_distance(s, p);
@@ -6586,7 +6586,7 @@ PVS__STATIC const pvs_cull_params *pvs__cull_defaults(const pvs_cull_params *p, 
 }
 
 PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
-								   pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
+		pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
 	pvs__cullctx cc;
 	pvs_box src;
 	pvs_cull_params q;
@@ -6599,10 +6599,10 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
 	if (p && p->occluder_triangle_count && p->occluder_positions) {
 		if (p->occluder_flags & PVS_CULL_OCCLUDER_MESH)
 			pvs_raster_mesh(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices,
-							p->occluder_triangle_count);
+					p->occluder_triangle_count);
 		else
 			pvs_raster_triangles(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices,
-								 p->occluder_triangle_count, PVS_RASTER_OCCLUDER);
+					p->occluder_triangle_count, PVS_RASTER_OCCLUDER);
 		cc.st.occluder_triangles += p->occluder_triangle_count;
 	}
 	if (p && p->scene_occluders) cc.st.occluder_triangles += pvs__cull_scene_occluders(r, s, cam, p);
@@ -6635,13 +6635,13 @@ PVS__STATIC void pvs__cm_draw(pvs_raster *r, double *x, double *y, const double 
 /* > distance from eye (ou, ov) to any map point (§4.2). */
 PVS__STATIC double pvs__cm_reach(const pvs_raster *r, double ou, double ov) {
 	return 2.0 * ((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] +
-				  pvs__dabs(ou - r->region[0]) + pvs__dabs(ov - r->region[1]));
+			pvs__dabs(ou - r->region[0]) + pvs__dabs(ov - r->region[1]));
 }
 
 /* Shadow of facade a-b (height `top`) from eye o = (ou, ov, eh) (§3.1): ground quad a, b, b + t (b - o), a + t (a -
    o), far edge off map (§4.2), heights: plane of eye, top edge; inner coverage at cells' lowest height (§4.4). */
 PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, const float *a, const float *b,
-								double top, int simd) {
+		double top, int simd) {
 	double da[2], db[2], la, lb, reach, sa, sb, x[4], y[4], z[4];
 	da[0] = (double)a[0] - ou; da[1] = (double)a[1] - ov;
 	db[0] = (double)b[0] - ou; db[1] = (double)b[1] - ov;
@@ -6660,7 +6660,7 @@ PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, 
 
 /* Plane through eye and horizontal edge a-b at height `top`, as heights over ground; 0 if vertical. */
 PVS__STATIC int pvs__cm_plane(double ou, double ov, double eh, const double *a, const double *b, double top,
-							  double pl[3]) {
+		double pl[3]) {
 	double a0 = a[0] - ou, a1 = a[1] - ov, b0 = b[0] - ou, b1 = b[1] - ov, dh = top - eh;
 	/* n = (a - o) x (b - o), both dh above eye */
 	double nx = a1 * dh - dh * b1, ny = dh * b0 - a0 * dh, nz = a0 * b1 - a1 * b0;
@@ -6679,7 +6679,7 @@ PVS__STATIC double pvs__cm_height(const double pl[3], double ou, double ov, doub
    lies in union, at height A on A's side of ray, B on B's. A - B changes sign across it: A is lower bound if A >= B on
    A's side (ridge), else min corner value of concave min(A, B). */
 PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf,
-							  const float *qf, double top, int simd) {
+		const float *qf, double top, int simd) {
 	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
 	double delta = 2.0 * sqrt(su * su + sv * sv), reach, x[5], y[5], z[5], pa[3], pb[3], pt[2], vt[2], qt[2], lp, lq,
 		   cross0 = 0.0;
@@ -6723,7 +6723,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 
 /* 1 if facade a-b casts: front-facing for closed chains (§4.2), not nearer than min_dist. */
 PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *b, int closed, double area2,
-							  double min_dist) {
+		double min_dist) {
 	if (closed) {
 		/* outward: right of a->b for CCW footprint */
 		double nx = (double)b[1] - a[1], ny = -((double)b[0] - a[0]);
@@ -6743,7 +6743,7 @@ PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *
 
 /* One chain: each casting facade's shadow, seams between consecutive ones. */
 PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *pts, uint32_t n, int closed, float base,
-							   float top, int simd, double min_dist) {
+		float top, int simd, double min_dist) {
 	double area2 = 0.0, limit = pvs__dmin(eye[2], r->ground);
 	uint32_t i, segs;
 	int first_casts = 0, prev_casts = 0;
@@ -6773,7 +6773,7 @@ PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *
 
 /* Builds cull map, skipping facades nearer than min_dist to eye (ground plane). */
 PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
-										   uint32_t chain_count, uint32_t flags, double min_dist) {
+		uint32_t chain_count, uint32_t flags, double min_dist) {
 	double e[3];
 	size_t i, cells;
 	uint32_t c;
@@ -6792,7 +6792,7 @@ PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], co
 	for (i = 0; i < r->cm_tiles; ++i) r->cm_tile_min[i] = PVS_DEPTH_EMPTY;
 	for (c = 0; c < chain_count; ++c)
 		pvs__cm_chain(r, e, chains[c].points, chains[c].point_count, chains[c].closed != 0, chains[c].base,
-					  chains[c].top, simd, min_dist);
+				chains[c].top, simd, min_dist);
 	if (flags & PVS_CULL_MAP_SCENE_OCCLUDERS) {
 		for (c = 0; c < s->occluder_count; ++c) {
 			const pvs_occluder_desc *o = s->occluders + c;
@@ -6812,7 +6812,7 @@ PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], co
 }
 
 PVS_API pvs_result pvs_cull_map_build(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
-									  uint32_t chain_count, uint32_t flags) {
+		uint32_t chain_count, uint32_t flags) {
 	return pvs__cull_map_build(r, eye, chains, chain_count, flags, 0.0);
 }
 
@@ -6838,8 +6838,8 @@ PVS_API int pvs_cull_map_test_box(const pvs_raster *r, const pvs_box *b) {
 }
 
 PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
-									   const pvs_cull_params *p, pvs_word *visible, pvs_cull_stats *stats,
-									   pvs_error *err) {
+		const pvs_cull_params *p, pvs_word *visible, pvs_cull_stats *stats,
+		pvs_error *err) {
 	pvs_cull_stats st;
 	pvs_result res;
 	size_t c, cells;
@@ -6856,7 +6856,7 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 		/* facades nearer than near plane (at frustum's widest angle) clipped: hide nothing */
 		double ty = tan(0.5 * (double)cam->fov_y), tx = ty * (double)r->width / (double)r->height;
 		pvs__cull_map_build(r, cam->eye, p ? p->facades : NULL, p ? p->facade_count : 0, p ? p->cull_map_flags : 0,
-							(double)cam->near_plane * sqrt(1.0 + tx * tx + ty * ty) * (1.0 + 1e-6));
+				(double)cam->near_plane * sqrt(1.0 + tx * tx + ty * ty) * (1.0 + 1e-6));
 	} else { /* shadows cast from point: ortho gets frustum test only */
 		for (c = 0; c < (size_t)r->cm_w * r->cm_h; ++c) r->cm[c] = PVS_DEPTH_EMPTY;
 	}
@@ -7074,7 +7074,7 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 /* Clips `in` to n . l >= -slack (0: exact half), n unit normal of p's plane; new edges marked `mark`. Returns vertex
    count (0 empty, -1 too many). */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
-							   pvs__otpoly *out) {
+		pvs__otpoly *out) {
 	double d[PVS__OT_MAXV + 1];
 	unsigned char ins[PVS__OT_MAXV + 1];
 	int i, n = in->n, m = 0, any_in = 0;
@@ -7284,7 +7284,7 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 /* Blocker polygon B(S, O) (§6.4.3): lines via S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, edge in plane of
    its lines' shared point. Coincident vertices merge into Fig. 6.5's triangle. 0 if degenerate (no measure). */
 PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2],
-								pvs__otpoly *q) {
+		pvs__otpoly *q) {
 	const double *from[4], *to[4], *pt[4];
 	double v[4][3], len[4];
 	int i, n = 0, k;
@@ -7407,7 +7407,7 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 /* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k clearly in front of j, clearly
    behind. Neither: ties (lines via X or shared end), vertex lines missing segment (rounding sliver). */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk,
-							   int *front, int *behind) {
+		int *front, int *behind) {
 	int i, have_x;
 	double x[2], mj[4], mk[4];
 	*front = *behind = 0;
@@ -7458,7 +7458,7 @@ PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otp
 
 /* Gives leaf `node` payload seq[old_first..+old_count), then `add`. */
 PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count,
-									uint32_t add) {
+		uint32_t add) {
 	size_t first = t->seq_count;
 	if (!pvs__grow(t->a, (void **)&t->seq, &t->seq_cap, t->seq_count + old_count + 1, sizeof(uint32_t)))
 		return t->oom = 1, 0;
@@ -7545,13 +7545,13 @@ PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 }
 
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
-								const double *e, const double *box);
+		const double *e, const double *box);
 
 /* ---- shared driver pieces */
 
 /* Clips segment s to open half-plane right of a -> b; 0: empty; *on_line: end moved onto line (1 first, 2 second). */
 PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4],
-									 int *on_line) {
+		int *on_line) {
 	double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
 	double f0 = (ex * (s[1] - a[1]) - ey * (s[0] - a[0])) / len;
 	double f1 = (ex * (s[3] - a[1]) - ey * (s[2] - a[0])) / len;
@@ -7571,7 +7571,7 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 /* Blockers of source edge a -> b (lines leaving right) and clipped segment o: 1, or 2 if o's line crosses edge at x
    (Fig. 6.5). Returns count; *degenerate: nonempty line set unrepresentable. */
 PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
-								 pvs__otpoly out[2], int *degenerate) {
+		pvs__otpoly out[2], int *degenerate) {
 	double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
 	int n = 0, have_x = 0;
 	*degenerate = 0;
@@ -7681,7 +7681,7 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 /* Cell polygon `in` (n >= 3) centred at vertex mean (*cx, *cy), made CCW, into `cell` (2 n doubles). PVS_OK, or
    BAD_CELL (in err) if no area or not convex. */
 PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy,
-									 pvs_error *err) {
+		pvs_error *err) {
 	double area = 0.0;
 	uint32_t i;
 	*cx = *cy = 0.0;
@@ -7713,7 +7713,7 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 /* MVD distances (§6.5.5) of `count` segments to cell (n vertices), rounded outward by len_eps: reach[i] max distance
    from segment i to cell point, near[i] min (0 if they meet). */
 PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
-									double *reach, double *near) {
+		double *reach, double *near) {
 	uint32_t i, k;
 	for (i = 0; i < count; ++i) {
 		const double *sg = seg + 4 * i;
@@ -7735,7 +7735,7 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 /* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert. test 1, exact re-test: 1
    if it meets cell, is point, degenerate from cell edge, or line from edge reaches it past occluders. */
 PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
-								 double near, int test) {
+		double near, int test) {
 	uint32_t k;
 	int vis = test && (pvs__ot_segment_meets_polygon(s, cell, n) || (s[0] == s[2] && s[1] == s[3]));
 	for (k = 0; k < n && !vis; ++k) {
@@ -7753,7 +7753,7 @@ PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, 
 }
 
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
-									 pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err) {
+		pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err) {
 	pvs__otree t;
 	pvs_allocator al;
 	double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0;
@@ -7780,7 +7780,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 		for (i = 0; i < count; ++i)
 			if (desc->segment_objects[i] != PVS_NO_OBJECT && desc->segment_objects[i] >= desc->object_count)
 				return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, i, 0, "segment %u names object %u of %u", i,
-								 desc->segment_objects[i], desc->object_count);
+						desc->segment_objects[i], desc->object_count);
 	al = desc->allocator;
 	t.a = &al;
 	PVS__BUF(b, nbuf, cell, 2 * (size_t)n, sizeof(double));
@@ -7961,7 +7961,7 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 /* Step 1's group: mem's slots as (s, h) triangles into w->sv on longest member's line (ties: lower slot), less those
    over tol from it. Returns count kept. */
 PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem,
-									 uint32_t n) {
+		uint32_t n) {
 	uint32_t ref = mem[0].index, nm = 0, i, k;
 	double d[2], c;
 	for (i = 1; i < n; ++i) {
@@ -7996,7 +7996,7 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
    intervals, each continuing open facade ending at sa with equal interval (within tol) or opening one; rest emitted. 0:
    OOM. */
 PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
-							 const double gb[2]) {
+		const double gb[2]) {
 	double tol = w->tol, *sec = w->sec;
 	uint32_t *comp = w->comp, *que = w->que, j, nc, seen, nn = 0;
 	pvs__fxopen *opn = w->opn, *nxt = w->nxt;
@@ -8085,7 +8085,7 @@ PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 }
 
 PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_allocator *a, float **out,
-											size_t *out_floats, uint32_t *count, uint32_t *vertical) {
+		size_t *out_floats, uint32_t *count, uint32_t *vertical) {
 	pvs__fxwork w;
 	uint32_t nv = 0, i, k, g0, g1, c0, c1, nt = sc->triangle_count;
 	double ext = 1.0, tol_a = 1e-7, *tl = NULL;
@@ -8248,7 +8248,7 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
    p, q below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D: signed distance to j's line (> 0 on source side); monotone
    in D(p), so corners' extreme D (clamped at 0) cover all eyes (thesis's pi_o / pi_s). 0 if empty. */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
-								double *u1) {
+		double *u1) {
 	double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
 	int i;
 	/* constraints alpha + beta u > margin; q0, q1: D at e's ends */
@@ -8315,8 +8315,8 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
    [*v0, *v1] in funnel range [*f0, *f1]; members crossing `skip_box` (2D, or NULL) or not surely in front ignored. 0:
    none. */
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
-							   const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
-							   double *v1) {
+		const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
+		double *v1) {
 	double flo, fhi;
 	double um[PVS__OT25_MAX_UMBRAE][2];
 	int i, nu = 0, changed;
@@ -8489,7 +8489,7 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
    (pvs__ot_thickness) ignored. 2.5D (c-LSS): part of far edge e (height h) of box `box` may be seen. near: distance for
    subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
-								const double *e, const double *box) {
+		const double *e, const double *box) {
 	size_t base = t->stack_count, top;
 	const double *sk = e ? NULL : t->seg + 4 * (size_t)k;
 	int vis = 0;
@@ -8510,7 +8510,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 		if (e) {
 			if (nd->kind == PVS__OT_OUT) pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top));
 			vis = nd->kind == PVS__OT_OUT || pvs__ot25_open(t, PVS__OT_ITEM(t, top), nd->first, nd->count, PVS__OT_NONE,
-															 e, h, box, &f0, &f1, &v0, &v1);
+					e, h, box, &f0, &f1, &v0, &v1);
 			continue;
 		}
 		pvs__ot_copy(&q, PVS__OT_ITEM(t, top));
@@ -8530,7 +8530,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 
 /* 1 if box bx (local umin vmin umax vmax; top) may be seen past source edge a -> b (§7.7: top edges: far segments). */
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
-									  int *any_far) {
+		int *any_far) {
 	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* source edge's outward direction */
 	/* bound counts every member, also those crossing box (ignored by pvs__ot25_open): with whole box's nearness, member
 	   of smaller reach is wholly nearer */
@@ -8591,7 +8591,7 @@ typedef struct pvs__ot25_sweep {
 /* Sweep visitor (§7.7), front to back: node meeting cell visible; inner node with >= w->test_min item refs: box tested
    as object's, culled if hidden; leaves insert facades, mark objects to test later. */
 PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
-									  uint32_t item_count) {
+		uint32_t item_count) {
 	pvs__ot25_sweep *w = (pvs__ot25_sweep *)user;
 	pvs__otree *t = w->t;
 	const pvs_visibility_25d_desc *d = w->desc;
@@ -8641,7 +8641,7 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 
 /* Approximate occlusion sweep (§3.2, pvs__kd_sweep), visitor told its node (w->node). */
 PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
-									  pvs__ot25_sweep *w) {
+		pvs__ot25_sweep *w) {
 	pvs__kd_sweep(t, source, heap, pvs__ot25_visit, w, &w->node);
 }
 
@@ -8675,11 +8675,11 @@ PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m
 }
 
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
-									  uint32_t object_count, pvs_box *boxes);
+		uint32_t object_count, pvs_box *boxes);
 
 /* pvs_visibility_25d's argument checks: every error it returns but OOM (in err). */
 PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, const pvs_word *visible_objects,
-									   pvs_error *err) {
+		pvs_error *err) {
 	uint32_t nf, no, i;
 	if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
 		return PVS__BAD_ARG(err, "desc, facades, objects and visible_objects are required");
@@ -8706,7 +8706,7 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
    top), cell rectangle grown by *margin into cell (4 CCW corners; never degenerate). Returns facades' max |coordinate|
    (>= 1). */
 PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
-								   double cell[8], double *margin) {
+		double cell[8], double *margin) {
 	double ext = 1.0, hx, hy;
 	uint32_t i, k;
 	for (i = 0; i < desc->facade_count; ++i) {
@@ -8760,7 +8760,7 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
    `tree`; its visible leaves' candidates tested (§7.7) into visible_objects. 0 if no object left to decide or tree
    stopped (t->oom: OOM). */
 PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
-							   pvs_word *visible_objects) {
+		pvs_word *visible_objects) {
 	pvs__otree *t = w->t;
 	const double *cell = w->cell, *a = cell + 2 * ((side + 1) & 3), *b = cell + 2 * side;
 	uint32_t i, live = 0, no = w->desc->object_count;
@@ -8794,7 +8794,7 @@ PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void 
 
 /* 2.5D query's kD-tree over pvs_visibility_25d_boxes. PVS_OK or error (in err). */
 PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out,
-									  pvs_error *err) {
+		pvs_error *err) {
 	pvs_kdtree_desc kd;
 	uint32_t nf = desc->facade_count, no = desc->object_count;
 	pvs_box *boxes = PVS__ALLOC_N(al, pvs_box, (size_t)nf + no + 1);
@@ -8824,7 +8824,7 @@ PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
 }
 
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects,
-									  pvs_otree_stats *stats, pvs_error *err) {
+		pvs_otree_stats *stats, pvs_error *err) {
 	pvs__otree t;
 	pvs_allocator al;
 	double cell[8], cx, cy, ext, margin;
@@ -8918,7 +8918,7 @@ done:
 }
 
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
-									  uint32_t object_count, pvs_box *boxes) {
+		uint32_t object_count, pvs_box *boxes) {
 	uint32_t i;
 	float low = FLT_MAX;
 	for (i = 0; i < facade_count; ++i) if (facades[5 * i + 4] < low) low = facades[5 * i + 4];
@@ -9045,7 +9045,7 @@ PVS__STATIC double pvs__sv_lo(const double n[3], const double lo[3], const doubl
 /* Keeps `in` where n.x + d >= 0; new edge: plane `en` (via eye; NULL: eye-and-new-edge), `mark`. Count: 0 empty, -1 too
    many. */
 PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d, const double *en, int mark,
-							 pvs__svpoly *out) {
+		pvs__svpoly *out) {
 	double s[PVS__SV_MAXV];
 	int i, m = 0, any = 0, newedge = -1;
 	for (i = 0; i < in->n; ++i) {
@@ -9093,7 +9093,7 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 
 /* Points p (n <= PVS__SV_MAXV) eye-relative into v; mean c, Newell normal nrm (2x area). */
 PVS__STATIC void pvs__sv_eye_points(const pvs_otree *o, const float *const *p, int n, double (*v)[3], double c[3],
-									double nrm[3]) {
+		double nrm[3]) {
 	int i, k;
 	PVS__FOR3(k) c[k] = nrm[k] = 0.0;
 	for (i = 0; i < n; ++i)
@@ -9211,7 +9211,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 				int side = lo >= -ins ? 1 : 0;
 				for (i = 0; i < q->n; ++i)
 					if (side ? pvs__sv_same(q->e[i], nd->n)
-							 : (q->e[i][0] == -nd->n[0] && q->e[i][1] == -nd->n[1] && q->e[i][2] == -nd->n[2]))
+							: (q->e[i][0] == -nd->n[0] && q->e[i][1] == -nd->n[1] && q->e[i][2] == -nd->n[2]))
 						q->mark[i] = 1;
 				o->stack_node[sp++] = nd->child[side]; /* q stays in place */
 			} else {
@@ -9274,7 +9274,7 @@ PVS__STATIC void pvs__sv_extent(const pvs__svvert *v, uint32_t count, const doub
 /* Eye-relative box [lo, hi] vs in-leaf fragment f (§4.10.2): invisible if wholly behind its plane or (unless
    PLANE_ONLY) apart from pyramid eye + fragment (exact test "E"); visible if wholly in front; else partly. */
 PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f, const double lo[3],
-									   const double hi[3]) {
+		const double hi[3]) {
 	const pvs__svvert *v = o->verts + f->first;
 	double smin = pvs__sv_lo(f->plane, lo, hi) + f->plane[3], smax = pvs__sv_hi(f->plane, lo, hi) + f->plane[3],
 		   t = f->tol;
@@ -9437,7 +9437,7 @@ typedef struct pvs__svboot {
 	uint32_t k;
 } pvs__svboot;
 PVS__STATIC pvs_visit pvs__sv_boot_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
-										 uint32_t count) {
+		uint32_t count) {
 	pvs__svboot *w = (pvs__svboot *)user;
 	uint32_t i;
 	(void)node_box;
@@ -9698,7 +9698,7 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
    with p->scene_volumes, occluder-volume faces within lambda; nearest first (approximate occlusion sweep, §3.2).
    Returns count offered. */
 PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam,
-											 const pvs_cull_params *p) {
+		const pvs_cull_params *p) {
 	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
 	pvs_box src;
 	int j;
@@ -9754,7 +9754,7 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
 
 /* Next candidates (§4.5) into o->prev: triangles of objects seen within lambda (occluder-only: box visible). */
 PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p,
-										const pvs_word *visible) {
+		const pvs_word *visible) {
 	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
 	o->sel_count = 0;
 	for (i = 0; i < o->touched_count; ++i) {
@@ -9773,7 +9773,7 @@ PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const 
 }
 
 PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
-								  pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
+		pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
 	float m[16];
 	uint32_t i, nocc = 0;
 	pvs_cull_params q;
@@ -9849,7 +9849,7 @@ typedef struct pvs__otree_bake {
    >= b: cell bottom c to object bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (facade
    joins lowest level >= its base); level k's kD-tree holds objects and facades of levels <= k. */
 PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells,
-										  uint32_t cell_count) {
+		uint32_t cell_count) {
 	int up = s->up_axis == 2 ? 2 : 1, u, v;
 	float *fac = NULL, maxc = -FLT_MAX;
 	size_t fac_floats = 0;
@@ -9949,7 +9949,7 @@ done:
    [level k, k + 1) tested against facades of levels <= k; below lowest level visible. May add PVS__BAKE_NO_OCCLUDERS,
    PVS__BAKE_OTREE_BUDGET to *flags. */
 PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *c, uint32_t cell,
-									   pvs_word *bits, unsigned *flags, pvs_error *err) {
+		pvs_word *bits, unsigned *flags, pvs_error *err) {
 	pvs_otree_stats st;
 	int up = s->up_axis == 2 ? 2 : 1, u, v;
 	pvs_visibility_25d_desc d;
@@ -10035,7 +10035,7 @@ PVS__STATIC pvs_result pvs__otree_bake_check(const pvs_bake_desc *desc, pvs_erro
 }
 
 PVS__STATIC pvs_result pvs__otree_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
-											   pvs_error *err) {
+		pvs_error *err) {
 	pvs__otree_bake *ot = (pvs__otree_bake *)pvs__alloc(&env->allocator, sizeof(pvs__otree_bake), 16);
 	*state = ot;
 	if (!ot) return PVS__OOM(err, "otree facades");
@@ -10055,8 +10055,8 @@ PVS__STATIC int pvs__otree_bake_applies(const void *state, const char **why) {
 }
 
 PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
-											const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
-											unsigned *flags, pvs_error *err) {
+		const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+		unsigned *flags, pvs_error *err) {
 	(void)task;
 	(void)candidates;
 	return pvs__otree_cell((const pvs__otree_bake *)state, env->scene, box, cell, bits, flags, err);
@@ -10163,7 +10163,7 @@ PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0
 
 /* Triangle-box overlap (Akenine-Moller 2001 SAT), double; margin in hs, radii up a hair: rounding errs to touched. */
 PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b,
-							  const double *d) {
+		const double *d) {
 	double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
 	int i, j;
 	PVS__FOR3(i) { v[0][i] = a[i] - c[i]; v[1][i] = b[i] - c[i]; v[2][i] = d[i] - c[i]; }
@@ -10272,7 +10272,7 @@ PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
 
 /* BVH of boxes[0..count) (keep NULL: all, else kept): median splits on centres' longest axis, leaves <= 4. */
 PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count,
-									   const uint8_t *keep, pvs__obvh *h) {
+		const uint8_t *keep, pvs__obvh *h) {
 	uint32_t i, n = 0, *stack = NULL, sp = 0;
 	pvs__obvh_key *keys = NULL;
 	PVS__ZERO(*h);
@@ -10397,7 +10397,7 @@ PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
 
 /* Voxel range [*i0, *i1] on axis k of [lo - m, hi + m] (empty: 1, 0). */
 PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double hi, double m, uint32_t *i0,
-								uint32_t *i1) {
+		uint32_t *i1) {
 	double a = floor((lo - m - gr->origin[k]) / gr->h), b = floor((hi + m - gr->origin[k]) / gr->h);
 	if (a < 0) a = 0;
 	if (b > (double)gr->n[k] - 1) b = (double)gr->n[k] - 1;
@@ -10427,7 +10427,7 @@ PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, doub
 
 /* Cells on axis k in [r0, r1] whose extent + g meets polygon p (n points); empty if *i0 > *i1. */
 PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int n, int k, double g, uint32_t r0,
-									uint32_t r1, uint32_t *i0, uint32_t *i1) {
+		uint32_t r1, uint32_t *i0, uint32_t *i1) {
 	double lo = p[k], hi = p[k], a, b;
 	int i;
 	for (i = 1; i < n; ++i) {
@@ -10449,7 +10449,7 @@ typedef void (*pvs__vx_visit_fn)(void *user, const uint32_t idx[3]);
    k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] giving k[0] ranges. Candidates only; slabs grow 1e-3 cell
    past m: visits every cell an exact margin-m test accepts. */
 PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m,
-							  const uint32_t r0[3], const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
+		const uint32_t r0[3], const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
 	double slab[3 * 8], tmp[3 * 8], row[3 * 8], g = m + 1e-3 * gr->h, h = gr->h;
 	uint32_t idx[3], c, c0 = 0, c1 = 0, b, b0, b1, a, a0, a1;
 	idx[0] = idx[1] = idx[2] = 0;
@@ -10556,7 +10556,7 @@ PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, do
 /* Vertical line at (pu, pv) vs triangle a, b, c: 0 misses, 1 crosses inside at height *z (within *dz); -1 undecidable
    (near edge, vertex, or uncertain height). */
 PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu,
-							  double pv, double *z, double *dz) {
+		double pv, double *z, double *dz) {
 	const float *p[3];
 	double o[3], bd[3], r = 0.0, zlo, zhi, w0, w1, w2;
 	int i, pos = 0, neg = 0, unsure = 0;
@@ -10805,9 +10805,9 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
 			uint32_t tri = tp->tris[t];
 			double z, dz;
 			int r = pvs__vx_cross(s->positions + 3 * (size_t)s->indices[3 * (size_t)tri],
-								  s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1],
-								  s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2], u, v, (int)up, pu, pv, &z,
-								  &dz);
+					s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1],
+					s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2], u, v, (int)up, pu, pv, &z,
+					&dz);
 			if (r < 0 || (r == 1 && pvs__dabs(z - z0) <= dz)) ok = 0;
 			else if (r == 1 && z > z0) w ^= 1;
 		}
@@ -10818,8 +10818,8 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
 
 /* Pushes cell cb's flood sources: box voxels' w = wc node (all if wc < 0); test = 1: none pushed, 1 if one reached. */
 PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const uint32_t lo[3], const uint32_t hi[3],
-							 const size_t stride[3], double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt,
-							 int test) {
+		const size_t stride[3], double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt,
+		int test) {
 	uint32_t r0[3], r1[3], a, b, c;
 	int kk;
 	PVS__FOR3(kk) {
@@ -10850,7 +10850,7 @@ PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const ui
 /* Floods box nodes from queue, entering from outside if ext = 1 or at box face via joined node; 0 if outside never
    entered. */
 PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io, size_t *qt_io, const uint32_t d[3],
-								  const size_t stride[3], const uint32_t lo[3], uint32_t up, int ext) {
+		const size_t stride[3], const uint32_t lo[3], uint32_t up, int ext) {
 	size_t qh = *qh_io, qt = *qt_io;
 	uint32_t i, j, k;
 	for (;;) {
@@ -10985,8 +10985,8 @@ PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
 	double z, dz, h = cv->gr->h;
 	if (cv->col[ci] != cv->pass) return;
 	r = pvs__vx_cross(cv->tri[0], cv->tri[1], cv->tri[2], u, v, up,
-					  cv->gr->origin[u] + (a + pvs__vx_line_u[cv->pass]) * h,
-					  cv->gr->origin[v] + (b + pvs__vx_line_v[cv->pass]) * h, &z, &dz);
+			cv->gr->origin[u] + (a + pvs__vx_line_u[cv->pass]) * h,
+			cv->gr->origin[v] + (b + pvs__vx_line_v[cv->pass]) * h, &z, &dz);
 	if (r == 1 && dz >= 0.5 * cv->m) r = -1;
 	if (r < 0) cv->col[ci] |= 0x80;
 	if (r == 1) {
@@ -11139,7 +11139,7 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
 /* Step 4's w of cell cb (box voxels r0..r1): -1 (all nodes) if cb + m meets K; else 0 with out_w0 (leaves box above
    ground); else pure voxel's it overlaps by over m, or own ray's. */
 PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3],
-									 const uint32_t r1[3], int out_w0) {
+		const uint32_t r1[3], int out_w0) {
 	const uint8_t *bits = fb->fl->bits;
 	const uint32_t *lo = fb->lo, *hi = fb->hi;
 	const size_t *stride = fb->stride;
@@ -11149,7 +11149,7 @@ PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, 
 		for (b = r0[1]; b <= r1[1] && !maybe; ++b)
 			for (a = r0[0]; a <= r1[0] && !maybe; ++a)
 				maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] &
-						 (PVS__G_T | PVS__G_B)) != 0;
+						(PVS__G_T | PVS__G_B)) != 0;
 	if (maybe) touches = pvs__vx_flood_cell_touches(fb, cb);
 	if (!touches && out_w0) wc = 0;
 	if (!touches && !out_w0) {
@@ -11231,7 +11231,7 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
 		for (q = 0; q < nnear; ++q) {
 			if (!fl->near_flag[q] &&
 				pvs__vx_seed(fb->gr, fl->cells + fl->near_cells[q], fb->lo, fb->hi, fb->stride, fb->m, fl->near_w[q],
-							 bits, queue, &qt, 1))
+					bits, queue, &qt, 1))
 				fl->near_flag[q] = 2;
 			nout += fl->near_flag[q] != 0;
 		}
@@ -11250,7 +11250,7 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
 		if (excl && fl->near_flag[q]) continue;
 		if (fl->near_flag[q] & 1) ext = 1;
 		pvs__vx_seed(fb->gr, fl->cells + fl->near_cells[q], fb->lo, fb->hi, fb->stride, fb->m, fl->near_w[q], bits,
-					 queue, &qt, 0);
+				queue, &qt, 0);
 	}
 	if (!excl && nnear < active) ext = 1;
 	*qh_io = qh;
@@ -11261,8 +11261,8 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
 /* Floods component K on grid gr, box lo..hi (inclusive, lo[up] >= 1): PVS__G_T/B/W, reached nodes into fl->bits; 0 if
    outside never entered. mark_touched: PVS__VX_TOUCHED too (gr: occluders' grid). */
 PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
-										const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl,
-										int mark_touched) {
+		const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl,
+		int mark_touched) {
 	pvs__vx_fbox fb;
 	size_t qh = 0, qt = 0;
 	uint32_t k;
@@ -11295,7 +11295,7 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
 
 /* Certifies K on occluders' grid: unflooded pure voxels solid; if never entered, outside box but ground too. */
 PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
-								 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
+		const uint32_t hi[3], double m, pvs__vx_flood *fl) {
 	uint32_t d[3], i, j, k;
 	size_t stride[3];
 	const uint8_t *bits = fl->bits;
@@ -11396,7 +11396,7 @@ PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
 		(pvs__dabs(a[up]) + pvs__dabs(b[up]) + pvs__dabs(c[up]) +
 		 (pvs__dabs(tv->gu) + pvs__dabs(tv->gv)) *
 			 (pvs__dabs(a[u]) + pvs__dabs(a[v]) + pvs__dabs(b[u]) + pvs__dabs(b[v]) + pvs__dabs(c[u]) +
-			  pvs__dabs(c[v]) + 1.0));
+				pvs__dabs(c[v]) + 1.0));
 }
 PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
 	const pvs__vx_tminvisit *tv = (const pvs__vx_tminvisit *)user;
@@ -11421,8 +11421,8 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
 /* tmin, row-major over map squares sq0..sq1: min height of K's triangles within e of each (pvs__vx_tmin_visit; FLT_MAX:
    none). */
 PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
-									  const uint32_t sq0[3], const uint32_t sq1[3], double e, double margin,
-									  float *tmin) {
+		const uint32_t sq0[3], const uint32_t sq1[3], double e, double margin,
+		float *tmin) {
 	const pvs__vx_cols *cm = &o->cols;
 	pvs__vx_tminvisit tv;
 	uint32_t up = o->scene->up_axis, t;
@@ -11454,8 +11454,8 @@ PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo
 
 /* Component's column-map pass: flood, ground runs, squares' solid, occluder heights. */
 PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
-												 const pvs__vx_grid *gk, const uint32_t lo[3], const uint32_t hi[3],
-												 double m, double eps, double margin, pvs__vx_flood *fl) {
+		const pvs__vx_grid *gk, const uint32_t lo[3], const uint32_t hi[3],
+		double m, double eps, double margin, pvs__vx_flood *fl) {
 	uint32_t sq0[3], sq1[3];
 	const pvs_scene *s = o->scene;
 	pvs__vx_cols *cm = &o->cols;
@@ -11612,8 +11612,8 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
    squares meet (4-connected). Simplified, each: chain of heights [base, top], point (i, j) at (ox + i c, oy + j c):
    outer (CCW) loops closed, holes open, repeating first point. used: 4 (w + 1) (h + 1) bytes. 0: OOM. */
 PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
-							  uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
-							  int32_t **ip, size_t *ipcap) {
+		uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
+		int32_t **ip, size_t *ipcap) {
 	/* direction d: 0 +i, 1 +j, 2 -i, 3 -j; squares left, right of edge leaving vertex (x, y) */
 	static const int di[4] = {1, 0, -1, 0}, dj[4] = {0, 1, 0, -1};
 	static const int lqi[4] = {0, -1, -1, 0}, lqj[4] = {0, 0, -1, -1}, rqi[4] = {0, 0, -1, -1}, rqj[4] = {-1, 0, 0, -1};
@@ -11782,8 +11782,8 @@ PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) 
 		++nsub;
 		if (exact &&
 			!pvs__vx_trace(&w->o->allocator, &w->cb, mask, bw, bh, cm->grid.origin[u] + ((double)i0 - 1.0) * cm->grid.h,
-						   cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, w->used,
-						   &w->ipts, &w->ipcap))
+				cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, w->used,
+				&w->ipts, &w->ipcap))
 			return 0;
 	}
 	return 1;
@@ -11928,7 +11928,7 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
 #define PVS__VX_TOTAL_BUDGET (1u << 26)
 #define PVS__VX_COMPONENT_SHARE (1u << 16)
 PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx_topo *tp, const pvs_allocator *al,
-											   double eps, double m, double *out) {
+		double eps, double m, double *out) {
 	double h = eps, budget = (double)PVS__VX_TOTAL_BUDGET, total, *ext;
 	uint32_t comp, t, q, k, n = 0;
 	*out = eps;
@@ -11978,7 +11978,7 @@ PVS__STATIC void pvs__tri_axis_range(const pvs_scene *s, uint32_t tri, uint32_t 
 
 /* comp's voxel box lo..hi in gr: voxels within m of its triangle extents (open edges: from layer 1); count. */
 PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gr,
-									double m, uint32_t lo[3], uint32_t hi[3]) {
+		double m, uint32_t lo[3], uint32_t hi[3]) {
 	uint32_t t, k, r0, r1, up = s->up_axis;
 	size_t vol = 1;
 	PVS__FOR3(k) {
@@ -12001,7 +12001,7 @@ PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, 
 
 /* Column map, chains, pyramids (3+ triangle components). */
 PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps,
-									   double m, pvs__vx_flood *fl) {
+		double m, pvs__vx_flood *fl) {
 	const pvs_scene *s = o->scene;
 	const pvs_allocator *al = &o->allocator;
 	pvs__vx_cols *cm = &o->cols;
@@ -12774,12 +12774,12 @@ PVS__STATIC uint32_t pvs__walk_sample_of(const pvs__walk *k, const pvs__wgroup *
 /* 1 if rectangle b continues a across a's square side dirn (0: +u, 1: +v): same extent, every pair across linked,
    heights within a step with [lo, hi]. */
 PVS__STATIC int pvs__walk_joins(const pvs__walk *k, const pvs__wgroup *a, const pvs__wgroup *b, uint32_t dirn, float lo,
-								float hi) {
+		float hi) {
 	uint32_t i, n = dirn ? a->hi_u - a->lo_u + 1 : a->hi_v - a->lo_v + 1;
 	if (b->used || !pvs__wgroup_rect(k, b) ||
 		(b->hi > hi ? b->hi : hi) - (b->lo < lo ? b->lo : lo) > k->d.step_height ||
 		(dirn ? a->hi_v % 4 != 3 || b->lo_v != a->hi_v + 1 || b->lo_u != a->lo_u || b->hi_u != a->hi_u
-			  : a->hi_u % 4 != 3 || b->lo_u != a->hi_u + 1 || b->lo_v != a->lo_v || b->hi_v != a->hi_v))
+			: a->hi_u % 4 != 3 || b->lo_u != a->hi_u + 1 || b->lo_v != a->lo_v || b->hi_v != a->hi_v))
 		return 0;
 	for (i = 0; i < n; ++i) {
 		uint32_t ca = dirn ? a->hi_v * k->nu + a->lo_u + i : (a->lo_v + i) * k->nu + a->hi_u;
@@ -12791,7 +12791,7 @@ PVS__STATIC int pvs__walk_joins(const pvs__walk *k, const pvs__wgroup *a, const 
 
 /* Group of square (gx, gz) continuing a across side dirn within [lo, hi], or NULL. */
 PVS__STATIC pvs__wgroup *pvs__walk_find(const pvs__walk *k, pvs__wgroup *g, const uint32_t *sq_first, uint32_t gx,
-										uint32_t gz, const pvs__wgroup *a, uint32_t dirn, float lo, float hi) {
+		uint32_t gz, const pvs__wgroup *a, uint32_t dirn, float lo, float hi) {
 	uint32_t gnu = (k->nu + 3) / 4, sq = gz * gnu + gx, i;
 	if (gx >= gnu || gz >= (k->nv + 3) / 4) return NULL;
 	for (i = sq_first[sq]; i < sq_first[sq + 1]; ++i)
@@ -12802,7 +12802,7 @@ PVS__STATIC pvs__wgroup *pvs__walk_find(const pvs__walk *k, pvs__wgroup *g, cons
 /* Emits box over columns [u0, u1] + spacing / 2, from 1/4 eye height over lo to eye height over hi, clipped to view
    volumes met. */
 PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, uint32_t v0, uint32_t v1, float lo,
-								float hi, pvs_box *cells, uint32_t capacity, uint32_t *n) {
+		float hi, pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs_box b, in = pvs__box_empty();
 	uint32_t m;
 	b.min[k->u] = (float)(k->u0 + (u0 - 0.5) * k->hs);
@@ -12821,7 +12821,7 @@ PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, ui
 /* Rectangle group grown over neighbouring squares (<= max_merge per side, rows of equal extent), or other groups as box
    per run of equal sample rows. */
 PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint32_t *sq_first, pvs__wgroup *a0,
-								 pvs_box *cells, uint32_t capacity, uint32_t *n) {
+		pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs__wgroup *run[64], *row[8];
 	uint32_t nr = 1, wide = 1, tall = 1, i, j, gnu = (k->nu + 3) / 4, gx = a0->square % gnu, gz = a0->square / gnu;
 	float lo = a0->lo, hi = a0->hi;
@@ -12880,7 +12880,7 @@ PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint3
 
 /* Groups linked samples per square, emits cells (pvs_walkable_cells). */
 PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t capacity, uint32_t *count,
-									   pvs_error *err) {
+		pvs_error *err) {
 	const pvs_allocator *al = &k->d.allocator;
 	uint32_t gnu = (k->nu + 3) / 4, nsq = gnu * ((k->nv + 3) / 4), i, n = 0, *sq_first;
 	size_t ng = 0, a;
@@ -12955,7 +12955,7 @@ PVS__STATIC uint32_t pvs__walk_reach(pvs__walk *k, uint32_t s0) {
 }
 
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_desc *desc, pvs_box *cells,
-									  uint32_t capacity, uint32_t *count, pvs_error *err) {
+		uint32_t capacity, uint32_t *count, pvs_error *err) {
 	pvs__walk k;
 	pvs_result r = PVS_OK;
 	size_t ncol, a, nlink = 0;
@@ -12997,7 +12997,7 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 	ncol = (size_t)k.nu * k.nv;
 	if ((double)k.nu * k.nv > (double)(1u << 26))
 		return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "walkable: %.0f sample columns (a larger cell_size)",
-						 (double)k.nu * k.nv);
+				(double)k.nu * k.nv);
 	k.first = PVS__ALLOC_N(&k.d.allocator, uint32_t, ncol + 1);
 	r = k.first ? pvs__walk_solids(&k, err) : PVS__OOM(err, "walkable columns");
 	for (c = 0; c < ncol && r == PVS_OK; ++c) {
@@ -13368,7 +13368,7 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 
 /* Prepares n segments (4 doubles, ground; 0-length dropped), tops: vertex ids (exact), loops, hulls, objects, grid. */
 PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n,
-										 pvs__vprep **out) {
+		pvs__vprep **out) {
 	pvs__vprep *p;
 	pvs__vprep_scratch w;
 	pvs__buf b[17], wb[6];
@@ -13521,7 +13521,7 @@ PVS__STATIC void pvs__vo_cell_frame(pvs__vctx *c, const double *cmin, const doub
 
 /* Cell frame (ground rectangle, world) over prepared occluders. */
 PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs__vprep *p, const double cmin[2],
-							   const double cmax[2], double range) {
+		const double cmax[2], double range) {
 	int k;
 	double ext = 1.0, mid[2];
 	PVS__ZERO(*c);
@@ -13777,7 +13777,7 @@ PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fa
 /* From-point test, blocker o: appends to c->span at *ns (room for 2) fan part o covers before cell (2 if across back
    direction). 1 if x in o's wall loop (hidden). */
 PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn,
-								  uint32_t *ns) {
+		uint32_t *ns) {
 	const double *v = c->vx + 2 * (size_t)o->first, *cl = fn->cl, *ch = fn->ch, *f = fn->f;
 	double plo, phi, sp[2][2], tol = c->tol, len;
 	uint32_t lo = 0, hi = 0, j, pieces;
@@ -13901,7 +13901,7 @@ PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x
 
 /* Common tangents through cell of convex sets a, b; need_cell 0: a is cell. */
 PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t na, const double *b, uint32_t nb,
-									   int need_cell) {
+		int need_cell) {
 	uint32_t i, j;
 	for (i = 0; i < na; ++i)
 		for (j = 0; j < nb; ++j) {
@@ -13918,7 +13918,7 @@ PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t n
 				if (!(mn <= t && mx >= -t)) continue;
 			}
 			if (!pvs__vo_reserve(c->al, (void **)&c->lines, &c->caplines, 4 * ((size_t)c->nlines + 1),
-								 sizeof(double))) {
+					sizeof(double))) {
 				c->oom = 1;
 				return;
 			}
@@ -13960,7 +13960,7 @@ PVS__STATIC void pvs__vo_ev_push(pvs__vctx *c, uint32_t *n, double t, double t0,
 }
 /* Where segment a-b (line if `line`) crosses line p + t d. */
 PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, const double *d, const double *a,
-								const double *b, int line, double t0, double t1) {
+		const double *b, int line, double t0, double t1) {
 	double ex = b[0] - a[0], ey = b[1] - a[1], den = d[0] * ey - d[1] * ex, qx = a[0] - p[0], qy = a[1] - p[1], t, u;
 	if (!(fabs(den) > 1e-15 * (fabs(ex) + fabs(ey)) * (fabs(d[0]) + fabs(d[1])))) return;
 	t = (qx * ey - qy * ex) / den;
@@ -13973,7 +13973,7 @@ PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, cons
 
 /* Hidden parts of p + t d, t in [t0, t1], by aggregate's blockers: closed intervals into out (<= cap), count. */
 PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const double *d, double t0, double t1,
-										 double *out, uint32_t cap) {
+		double *out, uint32_t cap) {
 	double bb[4], a[2], b[2], span = t1 - t0, eps;
 	uint32_t i, j, ne = 0, nsub = 0, nout = 0, run = 0;
 	double run_start = 0.0;
@@ -14261,7 +14261,7 @@ PVS__STATIC double pvs__vo_angle(const double *p, const double *d, double t0, do
 /* Hidden parts of p + t d (d unit) in aggregate's wedge (supporting lines widened by 1/4, within analysis radius): *cur
    gets widest (keep: one around keep_t); returns its angle, 0 if none. */
 PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const double *p, const double *d,
-									double keep_t, int keep, pvs__vo_cur *cur) {
+		double keep_t, int keep, pvs__vo_cur *cur) {
 	double lo = DBL_MAX, hi = -DBL_MAX, iv[64], best = 0.0, b, cc, disc, w;
 	uint32_t s, n, i;
 	for (s = 0; s < 2; ++s) {
@@ -14654,7 +14654,7 @@ typedef struct pvs__vo_rt {
    corner c, on b's side of line c-a and a's of c-b; support functions test box. Margins (1e-7 of frame extent) make
    rounding answer "not hidden". */
 PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b,
-								 double base, double top) {
+		double base, double top) {
 	double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
 	int k, e;
 	PVS__ZERO(*r);
@@ -14764,7 +14764,7 @@ PVS__STATIC int pvs__vo_rt_user(pvs__vo_rt *r, const pvs_box *cell, uint32_t up,
 	return pvs__finite(o->p0[0]) && pvs__finite(o->p0[1]) && pvs__finite(o->p1[0]) && pvs__finite(o->p1[1]);
 }
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
-								const pvs_box *box) {
+		const pvs_box *box) {
 	pvs__vo_rt r;
 	if (!cell || !o || !box || !pvs__vo_box_ok(cell) || !pvs__vo_box_ok(box)) return 0;
 	return pvs__vo_rt_user(&r, cell, up_axis, o) && pvs__vo_rt_hides(&r, box);
@@ -14788,7 +14788,7 @@ PVS__STATIC int pvs__vo_walk_hidden(const pvs__vo_walk *w, const pvs_box *b) {
 }
 #ifndef PVS_RUNTIME_ONLY
 PVS__STATIC pvs_visit pvs__vo_walk_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
-										 uint32_t count) {
+		uint32_t count) {
 	pvs__vo_walk *w = (pvs__vo_walk *)user;
 	uint32_t i;
 	(void)distance;
@@ -14825,8 +14825,8 @@ PVS__STATIC void pvs__vo_stats_add(pvs_vocc_stats *a, const pvs_vocc_stats *b) {
 #endif /* PVS_RUNTIME_ONLY */
 
 PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_t count, const pvs_box *boxes,
-									uint32_t object_count, const pvs_kdtree *tree, uint8_t *rest, size_t rest_size,
-									pvs_word *visible, pvs_error *err) {
+		uint32_t object_count, const pvs_kdtree *tree, uint8_t *rest, size_t rest_size,
+		pvs_word *visible, pvs_error *err) {
 	pvs__vo_walk w;
 	uint32_t i;
 	memset(visible, 0, PVS_BITSET_WORDS(object_count) * sizeof(pvs_word));
@@ -14854,7 +14854,7 @@ PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_
 
 /* Splits caller scratch into occluder array (front), rest (16-aligned). */
 PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t count, const pvs_kdtree *tree,
-									   pvs__vo_rt **rt, uint8_t **rest, size_t *rest_size, pvs_error *err) {
+		pvs__vo_rt **rt, uint8_t **rest, size_t *rest_size, pvs_error *err) {
 	size_t need = pvs_vocc_cull_scratch_size(tree, count),
 		   head = ((size_t)count * sizeof(pvs__vo_rt) + 15u) / 16u * 16u;
 	uint8_t *p = (uint8_t *)scratch;
@@ -14866,7 +14866,7 @@ PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t coun
 	skew = (size_t)(-(intptr_t)p) & 15u;
 	if (size < need || size - skew < need - 16u)
 		return PVS__FAIL(err, PVS_ERROR_BUFFER_TOO_SMALL, "scratch of %llu bytes, need %llu",
-						 (unsigned long long)size, (unsigned long long)need);
+				(unsigned long long)size, (unsigned long long)need);
 	p += skew;
 	*rt = (pvs__vo_rt *)(void *)p;
 	*rest = p + head;
@@ -14875,9 +14875,9 @@ PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t coun
 }
 
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occ,
-										   uint32_t count, const pvs_box *boxes, uint32_t object_count,
-										   const pvs_kdtree *tree, void *scratch, size_t scratch_size,
-										   pvs_word *visible, pvs_error *err) {
+		uint32_t count, const pvs_box *boxes, uint32_t object_count,
+		const pvs_kdtree *tree, void *scratch, size_t scratch_size,
+		pvs_word *visible, pvs_error *err) {
 	pvs__vo_rt *rt = NULL;
 	uint8_t *rest = NULL;
 	size_t rest_size = 0;
@@ -14909,8 +14909,8 @@ PVS__STATIC size_t pvs__vo_section_size(uint32_t cells, uint64_t n) {
 
 /* Writes section (pvs__vo_section_size bytes): per-cell counts, scale codes, occluder bytes (stride 0: packed). */
 PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, float hstep, uint32_t cells,
-									   const uint8_t *counts, const uint8_t *scales, const uint8_t *bytes,
-									   uint32_t stride) {
+		const uint8_t *counts, const uint8_t *scales, const uint8_t *bytes,
+		uint32_t stride) {
 	uint32_t blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, b, i, n = 0;
 	uint32_t bu, bh;
 	for (i = 0; i < cells; ++i) n += counts[i];
@@ -14939,7 +14939,7 @@ PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, f
 
 /* Validates VOCC section of f->cell_count cells (pvs_file_open, after META) into *f; reads only inside it. */
 PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, const uint8_t *sec, uint32_t size,
-											pvs_error *err) {
+		pvs_error *err) {
 	uint64_t so = (uint64_t)(sec - file);
 	uint32_t cells = f->cell_count, blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, flags, n, b, i;
 	size_t need;
@@ -14956,11 +14956,11 @@ PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, co
 		return PVS__BAD_SECTION(err, so + 4, "VOCC: %u occluders for %u cells", n, cells);
 	if (!pvs__finite(base) || !pvs__finite(hstep) || !(hstep > 0.0f) || !pvs__finite(base + 255.0f * hstep))
 		return PVS__BAD_SECTION(err, so + 8, "VOCC: base %g or height step %g is not usable",
-								(double)base, (double)hstep);
+				(double)base, (double)hstep);
 	need = pvs__vo_section_size(cells, n);
 	if (!need || need != size)
 		return PVS__BAD_SECTION(err, so, "VOCC has %u bytes, %u cells and %u occluders need %llu",
-								size, cells, n, (unsigned long long)need);
+				size, cells, n, (unsigned long long)need);
 	counts = sec + PVS__VO_HEAD + 4 * ((size_t)blocks + 1);
 	if (pvs__get32(sec + PVS__VO_HEAD) != 0 || pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)blocks) != n)
 		return PVS__BAD_SECTION(err, so + PVS__VO_HEAD, "VOCC: block offsets must run from 0 to %u", n);
@@ -14970,7 +14970,7 @@ PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, co
 		for (i = b * PVS__VO_BLOCK; i < cells && i < (b + 1) * PVS__VO_BLOCK; ++i) sum += counts[i];
 		if (hi < lo || hi - lo != sum)
 			return pvs__fail(err, PVS_ERROR_BAD_SECTION, b * PVS__VO_BLOCK, so + PVS__VO_HEAD + 4 * (uint64_t)b,
-							 "VOCC: block %u holds %u occluders, its cells count %u", b, hi - lo, sum);
+					"VOCC: block %u holds %u occluders, its cells count %u", b, hi - lo, sum);
 	}
 	f->vocc_flags = PVS_VOCC_STORED | ((flags & 1u) ? PVS_VOCC_ONLY : 0u);
 	f->virtual_occluder_count = n;
@@ -14996,7 +14996,7 @@ PVS__STATIC uint32_t pvs__vo_file_cell(const pvs_file *f, uint32_t cell, const u
 
 /* Stored occluder: world ground ends, heights. */
 PVS__STATIC void pvs__vo_decode(const pvs_box *cell, uint32_t up, uint32_t scale_code, const uint8_t *q, float base,
-								float hstep, double *a, double *b, double *vbase, double *vtop) {
+		float hstep, double *a, double *b, double *vbase, double *vtop) {
 	double centre[2], sc = pvs__vo_scale(scale_code);
 	int u, v;
 	pvs__ground_axes(up == 2 ? 2u : 1u, &u, &v);
@@ -15010,7 +15010,7 @@ PVS__STATIC void pvs__vo_decode(const pvs_box *cell, uint32_t up, uint32_t scale
 }
 
 PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *f, uint32_t cell, pvs_virtual_occluder *out,
-											uint32_t capacity) {
+		uint32_t capacity) {
 	const uint8_t *bytes;
 	uint32_t scale, n, i;
 	pvs_box box;
@@ -15020,7 +15020,7 @@ PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *f, uint32_t cell, pv
 	for (i = 0; i < n && i < capacity && out; ++i) {
 		double a[2], b[2], lo, hi;
 		pvs__vo_decode(&box, f->up_axis, scale, bytes + 5 * (size_t)i, f->vocc_base, f->vocc_height_step, a, b, &lo,
-					   &hi);
+				&hi);
 		out[i].p0[0] = (float)a[0]; out[i].p0[1] = (float)a[1];
 		out[i].p1[0] = (float)b[0]; out[i].p1[1] = (float)b[1];
 		out[i].base = (float)lo;
@@ -15040,8 +15040,8 @@ PVS_API uint32_t pvs_file_vocc_record(const pvs_file *f, uint32_t cell, uint32_t
 }
 
 PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_occluders, const pvs_box *boxes,
-								 uint32_t object_count, const pvs_kdtree *tree, void *scratch, size_t scratch_size,
-								 pvs_word *visible, pvs_error *err) {
+		uint32_t object_count, const pvs_kdtree *tree, void *scratch, size_t scratch_size,
+		pvs_word *visible, pvs_error *err) {
 	const uint8_t *bytes;
 	uint32_t scale, n, i;
 	pvs_box box;
@@ -15065,7 +15065,7 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 	for (i = 0; i < n; ++i) {
 		double a[2], b[2], lo, hi;
 		pvs__vo_decode(&box, f->up_axis, scale, bytes + 5 * (size_t)i, f->vocc_base, f->vocc_height_step, a, b, &lo,
-					   &hi);
+				&hi);
 		pvs__vo_rt_init(rt + i, &box, f->up_axis, a, b, lo, hi);
 	}
 	return pvs__vo_cull(&box, rt, n, boxes, object_count, tree, rest, rest_size, visible, err);
@@ -15096,7 +15096,7 @@ PVS__STATIC void pvs__vbake_destroy(pvs__vbake *vb) {
 
 /* Prepared facades (pvs__scene_facades), ground walls of EXTRUSION and BOX occluders; object boxes. */
 PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator *a, uint32_t slices, uint32_t max_keep,
-										 pvs__vbake **out) {
+		pvs__vbake **out) {
 	pvs__vbake *vb;
 	float *fac = NULL, *top = NULL, ground, tmax;
 	double *seg = NULL;
@@ -15186,7 +15186,7 @@ done:
 /* Slice heights (§3.1): occluder tops over cell at quantiles (i + 0.2) / (n + 0.2) by subtended angle (n = 1: 1/6).
    Low slices fuse best, high ones hide past low walls. Ascending, distinct, <= n. */
 PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *centre, float ctop, uint32_t n, float *h,
-										   const pvs_allocator *al) {
+		const pvs_allocator *al) {
 	const pvs__vprep *p = vb->prep;
 	pvs__key_index *key;
 	double *w, total = 0.0, acc = 0.0;
@@ -15219,7 +15219,7 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
 			if (pvs__cross2(o, loc + 2 * hi, loc + 2 * k) > 0.0) hi = k;
 		}
 		ang = atan2(loc[2 * lo] * loc[2 * hi + 1] - loc[2 * lo + 1] * loc[2 * hi],
-					loc[2 * lo] * loc[2 * hi] + loc[2 * lo + 1] * loc[2 * hi + 1]);
+				loc[2 * lo] * loc[2 * hi] + loc[2 * lo + 1] * loc[2 * hi + 1]);
 		if (!(ang > 0.0)) continue;
 		key[m].key = p->obj_top[i];
 		key[m].index = m;
@@ -15243,7 +15243,7 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
 /* One cell's dense set (Koltun 2000 §3, §3.1) in c->out: its slices' virtual occluders, file frame. c untouched if
    none possible (below base, no area, no occluder). Caller frees c. */
 PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *cell, const double centre[2],
-										 double reach, uint32_t code, pvs__vctx *c) {
+		double reach, uint32_t code, pvs__vctx *c) {
 	const pvs_allocator *al = &vb->a;
 	double cmin[2], cmax[2];
 	float h[16];
@@ -15278,7 +15278,7 @@ typedef struct pvs__vo_selwork {
 /* Greedy selection (Koltun 2000, Fig. 6) from c->out: occluder hiding most unhidden objects, till max_keep kept or best
    gain < min_gain; 5 bytes each into bytes, tests into sw->sel; count. *r = OUT_OF_MEMORY: no scratch. */
 PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c,
-									uint32_t words, uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
+		uint32_t words, uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
 	const pvs_allocator *al = &vb->a;
 	uint32_t min_gain = vb->object_count / 1000u + 1u, keep = 0, i, j;
 	sw->rt = PVS__ALLOC_N(al, pvs__vo_rt, c->nout);
@@ -15324,7 +15324,7 @@ PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, u
 /* One bake cell: dense set, selection (Fig. 6), PVS rebuilt as pvs_vocc_cull will: *count (<= max_keep) 5-byte
    occluders, scale code, PVS (cleared first). */
 PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *cell, uint8_t *bytes, uint8_t *count,
-										 uint8_t *scale, pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
+		uint8_t *scale, pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
 	const pvs_allocator *al = &vb->a;
 	pvs__vctx c;
 	pvs__vo_selwork sw;
@@ -15370,7 +15370,7 @@ done:
 /* ---- 2D entry point */
 
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t capacity, uint32_t *count,
-							   pvs_vocc_stats *stats, pvs_error *err) {
+		pvs_vocc_stats *stats, pvs_error *err) {
 	pvs_allocator al;
 	pvs__vprep *p = NULL;
 	pvs__vctx c;
@@ -15456,7 +15456,7 @@ PVS__STATIC pvs_result pvs__vocc_bake_check(const pvs_bake_desc *desc, pvs_error
 
 /* Facades and loops once (pvs__vbake_create), per-task occluder records. */
 PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
-											  pvs_error *err) {
+		pvs_error *err) {
 	uint32_t slices = desc->vocc.slices ? desc->vocc.slices : 5,
 			 keep = desc->vocc.max_occluders ? desc->vocc.max_occluders : 10;
 	pvs__vocc_bake *vo;
@@ -15476,8 +15476,8 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
 	if (r != PVS_OK) return PVS__FAIL(err, r, "vocc: facades");
 	if (!vo->vb->prep->nobj && !env->is_auto)
 		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED,
-						 "vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual "
-						 "occluders cannot be built");
+				"vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual "
+				"occluders cannot be built");
 	vo->only = desc->vocc.only;
 	if (!pvs__bufs_alloc(&env->allocator, b, pvs__vocc_bake_bufs(vo, b)))
 		return PVS__OOM(err, "vocc: per-cell occluders");
@@ -15498,8 +15498,8 @@ PVS__STATIC int pvs__vocc_bake_applies(const void *state, const char **why) {
 /* Task's whole cell (VOCC bakes no adaptive cells): occluders into task's record, PVS they prove into bits; vocc.only:
    every drawable object (placeholder records). */
 PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
-										   const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
-										   unsigned *flags, pvs_error *err) {
+		const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+		unsigned *flags, pvs_error *err) {
 	pvs__vocc_bake *vo = (pvs__vocc_bake *)state;
 	const pvs__vbake *vb = vo->vb;
 	pvs_result r;
@@ -15508,7 +15508,7 @@ PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state
 	(void)flags;
 	memset(vo->stats + task, 0, sizeof(pvs_vocc_stats));
 	r = pvs__vo_bake_cell(vb, env->task_cells + task, vo->bytes + (size_t)task * vb->max_keep * 5, vo->count + task,
-						  vo->scale + task, bits, vo->stats + task, err);
+			vo->scale + task, bits, vo->stats + task, err);
 	if (r != PVS_OK) {
 		if (err) err->index = cell;
 		return r;
@@ -15747,7 +15747,7 @@ PVS__STATIC int pvs__po_put(pvs__po_wind *w, uint32_t *n, const double *x) {
 
 /* Splits w by pl: dist <= eps to *back, >= -eps to *front (either NULL ok); 1 if vertices lost (> PVS__PO_MAXW). */
 PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, pvs__po_wind *front,
-							   pvs__po_wind *back) {
+		pvs__po_wind *back) {
 	double dist[PVS__PO_MAXW];
 	uint32_t i, nf = 0, nb = 0;
 	int lost = 0;
@@ -15793,7 +15793,7 @@ PVS__STATIC int pvs__po_box_clip(const double *b, const double *pl, double eps) 
 
 /* Base square of table plane id clipped by planes[0..count) (pair `skip` left out); p->lost set if vertices lost. */
 PVS__STATIC void pvs__po_clip_base(pvs__poprep *p, uint32_t id, const uint32_t *planes, uint32_t count, uint32_t skip,
-								   pvs__po_wind *w) {
+		pvs__po_wind *w) {
 	uint32_t j;
 	pvs__po_base(p->pl[id], 4.0 * p->ext, w);
 	for (j = 0; j < count && w->n >= 3; ++j)
@@ -15808,7 +15808,7 @@ PVS__STATIC void pvs__po_poly_free(const pvs_allocator *a, pvs__po_poly *q) {
 
 /* Faces (planes, windings) into one block; 0: OOM. */
 PVS__STATIC int pvs__po_poly_make(const pvs_allocator *a, pvs__po_poly *q, const uint32_t *planes,
-								  const pvs__po_wind *w, uint32_t faces) {
+		const pvs__po_wind *w, uint32_t faces) {
 	uint32_t i, verts = 0;
 	unsigned char *m;
 	for (i = 0; i < faces; ++i) verts += w[i].n;
@@ -15848,7 +15848,7 @@ PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w
 /* Polytope of planes[0..count) (outward): each face its base square clipped by others (dropped if emptied); < 4 left:
    empty *q (face_count 0). 0: OOM. */
 PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes, uint32_t count, pvs__po_poly *q,
-										 pvs__po_wind *scratch, uint32_t *kept) {
+		pvs__po_wind *scratch, uint32_t *kept) {
 	uint32_t i, faces = 0;
 	PVS__ZERO(*q);
 	for (i = 0; i < count; ++i) {
@@ -15897,7 +15897,7 @@ PVS__STATIC int pvs__po_side(const pvs__po_poly *q, const double *pl, double eps
 /* Splits q by table plane id into *front, *back (empty if no part of q there); q untouched. Cap: plane's base square
    clipped by q's faces. 0: OOM. */
 PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32_t id, pvs__po_poly *front,
-								   pvs__po_poly *back, pvs__po_wind *scratch, uint32_t *planes) {
+		pvs__po_poly *back, pvs__po_wind *scratch, uint32_t *planes) {
 	const double *pl = p->pl[id];
 	uint32_t f, side, n;
 	pvs__po_wind w, a, b;
@@ -15932,7 +15932,7 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 /* Face planes of tris[0..n) if closed convex mesh (each directed edge and its reverse once; every vertex within tolc
    behind every triangle plane, or all in front: inside out): their count, else 0. edges: 6n scratch; planes: n. */
 PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const uint32_t *canon, const uint32_t *tris,
-									uint32_t n, uint32_t (*edges)[2], uint32_t *planes) {
+		uint32_t n, uint32_t (*edges)[2], uint32_t *planes) {
 	uint32_t i, j, k, np = 0;
 	double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX}, tolc, sign = 0.0;
 	if (n < 4) return 0;
@@ -15997,7 +15997,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
    vertex, or edge's 2 positions exactly 2 of them use, in opposite directions (mesh exported with split vertices;
    touching solids use such edge 4 times, stay apart). 0: OOM. */
 PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
-							   pvs__po_wind *scratch, uint32_t *kept) {
+		pvs__po_wind *scratch, uint32_t *kept) {
 	const pvs_allocator *al = &p->allocator;
 	uint32_t planes[PVS__PO_MAX_FACES], i, k, t, nv = s->vertex_count, nt = s->triangle_count, ne = 0;
 	uint32_t *parent, *head, *next, (*edges)[2], *canon;
@@ -16158,7 +16158,7 @@ PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint3
 
 /* Subtree of fragments f[0..n) (taken, freed) in region (taken): its node or leaf id. */
 PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint32_t n, pvs__po_poly *region,
-										uint32_t depth) {
+		uint32_t depth) {
 	pvs__poprep *p = b->p;
 	const pvs_allocator *al = &p->allocator;
 	pvs__po_poly *part[2] = {NULL, NULL}, rpart[2];
@@ -16218,7 +16218,7 @@ leaf:
 /* ---- portals and objects per leaf */
 
 PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to, uint32_t plane,
-									const pvs__po_wind *w) {
+		const pvs__po_wind *w) {
 	pvs__poprep *p = b->p;
 	const pvs_allocator *al = &p->allocator;
 	pvs__po_portal *q;
@@ -16283,7 +16283,7 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 
 /* leaf(ctx, l) for every empty leaf l box b meets (within eps), b pushed down from `node`. */
 PVS__STATIC void pvs__po_box_down(const pvs__poprep *p, const pvs_box *b, uint32_t node,
-								  void (*leaf)(void *ctx, uint32_t l), void *ctx) {
+		void (*leaf)(void *ctx, uint32_t l), void *ctx) {
 	while (!(node & PVS__PO_LEAF)) {
 		const pvs__po_node *nd = p->nodes + node;
 		const double *pl = p->pl[nd->plane];
@@ -16324,7 +16324,7 @@ PVS__STATIC void pvs__po_object_leaf(void *ctx, uint32_t l) {
 
 /* Stable sort of count (key, value) pairs into per-key lists: first (keys + 1), values. */
 PVS__STATIC int pvs__po_csr(const pvs_allocator *a, const uint32_t *pairs, size_t count, uint32_t keys,
-							uint32_t **first, uint32_t **values) {
+		uint32_t **first, uint32_t **values) {
 	size_t i;
 	*first = (uint32_t *)pvs__alloc_array(a, (size_t)keys + 1, sizeof(uint32_t));
 	*values = (uint32_t *)pvs__alloc_array(a, count + 1, sizeof(uint32_t));
@@ -16401,8 +16401,8 @@ PVS__STATIC void pvs__po_add_plane(pvs__po_win *w, const double *pl, double eps)
    side (Teller 1992 §5.2 separating plane, pvs__po_add_plane); 1 if so. box (centre, half sizes) not NULL: A: its
    corners, tested at once. */
 PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
-								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps,
-								   const double *box) {
+		const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps,
+		const double *box) {
 	/* straight-line (loop stalls store-to-load forward) */
 	double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
 	double n[4], d, len, lo = 0.0, hi = 0.0, sg;
@@ -16442,12 +16442,12 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
    through edge of one and vertex of other, c and w on opposite sides. Set meeting w has none. box: c is whole box
    (pvs__po_try_plane's). */
 PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps, double tol,
-										const double *box) {
+		const double *box) {
 	uint32_t i, j;
 	for (i = 0; i < w->nv; ++i)
 		for (j = 0; j < c->n; ++j)
 			if (pvs__po_try_plane(w, w->v[i], w->v[(i + 1) % w->nv], c->v[j], (const double(*)[3])c->v, c->n,
-								  (const double(*)[3])w->v, w->nv, eps, box))
+					(const double(*)[3])w->v, w->nv, eps, box))
 				break;
 	for (i = 0; i < c->ne; ++i)
 		for (j = 0; j < w->nv; ++j) {
@@ -16458,7 +16458,7 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 				if ((s0 > tol && s1 > tol) || (s0 < -tol && s1 < -tol)) continue;
 			}
 			if (pvs__po_try_plane(w, c->v[c->e[i][0]], c->v[c->e[i][1]], w->v[j], (const double(*)[3])c->v, c->n,
-								  (const double(*)[3])w->v, w->nv, eps, box))
+					(const double(*)[3])w->v, w->nv, eps, box))
 				break;
 		}
 }
@@ -16470,7 +16470,7 @@ PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const double (*v)[3], uint32_t 
 	for (k = 0; n && k <= n; ++k, b = a) {
 		const double *x = v[k % n];
 		for (a = 0; a < c->n && !(fabs(c->v[a][0] - x[0]) <= eps && fabs(c->v[a][1] - x[1]) <= eps &&
-								  fabs(c->v[a][2] - x[2]) <= eps); ++a) {
+				fabs(c->v[a][2] - x[2]) <= eps); ++a) {
 		}
 		if (a == c->n && a < PVS__PO_MAXW) memcpy(c->v[c->n++], x, sizeof(c->v[0]));
 		if (a == b || a == PVS__PO_MAXW || b == PVS__PO_MAXW || c->ne == PVS__PO_MAXW) continue;
@@ -16555,7 +16555,7 @@ PVS__STATIC void pvs__po_step_planes(const pvs__poprep *p, uint32_t P, uint32_t 
 /* 1 if object o has triangle whose part in empty leaf `leaf` clipped by w's planes (w NULL: none) is not empty (within
    tol; or vertices lost), or no triangle. */
 PVS__STATIC int pvs__po_meets(const pvs__poprep *p, const pvs_scene *s, uint32_t leaf, uint32_t o,
-							  const pvs__po_win *w) {
+		const pvs__po_win *w) {
 	const pvs__po_poly *lp = p->leaf + leaf;
 	const uint32_t *ot = s->object_triangles + 2 * (size_t)o;
 	uint32_t t, j, k;
@@ -17067,7 +17067,7 @@ done:
 }
 
 PVS__STATIC pvs_result pvs__portal_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
-												pvs_error *err) {
+		pvs_error *err) {
 	pvs__poprep *p = (pvs__poprep *)pvs__alloc(&env->allocator, sizeof(pvs__poprep), 16);
 	*state = p;
 	if (!p) return PVS__OOM(err, "portal");
@@ -17080,7 +17080,7 @@ PVS__STATIC pvs_result pvs__portal_bake_prepare(pvs__bake_env *env, const pvs_ba
 		return PVS__OOM(err, "portal: rooms and portals");
 	if (p->lost)
 		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "portal: a room or portal polygon of more than %u vertices",
-						 PVS__PO_MAXW);
+				PVS__PO_MAXW);
 	memset(p->task_cut, 0, (p->task_count + 1) * sizeof(uint32_t));
 	return PVS_OK;
 }
@@ -17096,8 +17096,8 @@ PVS__STATIC int pvs__portal_bake_applies(const void *state, const char **why) {
 }
 
 PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
-											 const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
-											 unsigned *flags, pvs_error *err) {
+		const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+		unsigned *flags, pvs_error *err) {
 	const pvs__poprep *p = (const pvs__poprep *)state;
 	const pvs_allocator *al = &p->allocator;
 	size_t nl = p->leaf_count, bytes = 5 * nl + 16, i;
@@ -17233,7 +17233,7 @@ PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t poi
 }
 
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
-									   uint32_t rays_per_point, uint64_t seed, pvs_word *visible) {
+		uint32_t rays_per_point, uint64_t seed, pvs_word *visible) {
 	uint64_t state = seed, rays = 0;
 	pvs_box bounds;
 	float diagonal;
@@ -17289,7 +17289,7 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 }
 
 PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
-											  uint32_t rays_per_object, uint64_t seed, pvs_word *visible) {
+		uint32_t rays_per_object, uint64_t seed, pvs_word *visible) {
 	uint64_t state = seed, rays = 0;
 	uint32_t o, r;
 	int k;
@@ -17338,7 +17338,7 @@ typedef struct pvs__sample_bake {
 } pvs__sample_bake;
 
 PVS__STATIC pvs_result pvs__sample_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
-												pvs_error *err) {
+		pvs_error *err) {
 	pvs__sample_bake *sb = (pvs__sample_bake *)pvs__alloc(&env->allocator, sizeof(pvs__sample_bake), 16);
 	*state = sb;
 	if (!sb) return PVS__OOM(err, "sample");
@@ -17350,8 +17350,8 @@ PVS__STATIC pvs_result pvs__sample_bake_prepare(pvs__bake_env *env, const pvs_ba
 }
 
 PVS__STATIC pvs_result pvs__sample_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
-											 const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
-											 unsigned *flags, pvs_error *err) {
+		const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+		unsigned *flags, pvs_error *err) {
 	const pvs__sample_bake *sb = (const pvs__sample_bake *)state;
 	uint64_t seed = sb->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull); /* per cell: run-order independent */
 	(void)task;
@@ -17531,9 +17531,9 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 			bx0 = pvs__dmin(bx0, pts[i][0]); bx1 = pvs__dmax(bx1, pts[i][0]);
 			by0 = pvs__dmin(by0, pts[i][1]); by1 = pvs__dmax(by1, pts[i][1]);
 			mag = pvs__dmax(mag,
-							pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) +
-								(pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
-								(pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
+					pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) +
+					(pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
+					(pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
 			/* point moved by slack moves view <= slack (t + |view - V| / (Pw - Vw)) per axis */
 			smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
 		}
@@ -17591,7 +17591,7 @@ PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, in
 
 /* Pixels x0..x1 of row j: `depth` to map (where nearer), f->bits to mask (either may be NULL); count. */
 PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, int32_t x1, float depth, float *map,
-								  unsigned char *mask) {
+		unsigned char *mask) {
 	size_t row = (size_t)j * f->width;
 	int32_t x;
 	if (map)
@@ -17605,7 +17605,7 @@ PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, 
 /* Rasterizes Projection E, rows j0..j1, columns i0..i1, as pvs__ep_span: pixels whose worst corner passes each edge by
    its margin; count. Not pvs__raster_poly: flat-Depth spans faster; edges carry error bounds. */
 PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0,
-									   int32_t j1, float depth, float *map, unsigned char *mask) {
+		int32_t j1, float depth, float *map, unsigned char *mask) {
 	int32_t row;
 	uint32_t written = 0;
 	for (row = j0; row <= j1; ++row) {
@@ -17636,7 +17636,7 @@ PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges
 }
 
 PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo,
-										   double whi, double slack, float *map, unsigned char *mask) {
+		double whi, double slack, float *map, unsigned char *mask) {
 	double P[PVS__EP_CLIPN][3], dmax = 0.0;
 	pvs__epedges E;
 	int n, i;
@@ -17694,7 +17694,7 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
 /* pvs_extproj_occluder, prepared frame, finite points; solid, slack as in pvs__epocc. Depths to map (min), f->bits to
    mask, either may be NULL; front_only: only part before plane. */
 PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count,
-									  int solid, double slack, int front_only, float *map, unsigned char *mask) {
+		int solid, double slack, int front_only, float *map, unsigned char *mask) {
 	pvs__epframe f = *fp;
 	double P[PVS__EP_MAXP][3], margin, wmax = -DBL_MAX;
 	uint32_t i, written;
@@ -17745,7 +17745,7 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
 
 /* Pixel bounds of box's (k, w) views from cell's (k, w) corners; t[c][b] = (W - cw[c]) / (bw[b] - cw[c]). */
 PVS__STATIC void pvs__ep_occludee_axis(const double *cell_k, double bk0, double bk1, const double t[2][2], double k0,
-									   double sk, uint32_t size, int32_t *lo, int32_t *hi) {
+		double sk, uint32_t size, int32_t *lo, int32_t *hi) {
 	double mn = DBL_MAX, mx = -DBL_MAX, mag = 0.0, err;
 	int a, b, c;
 	for (a = 0; a < 2; ++a)
@@ -17772,9 +17772,9 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
 	for (c = 0; c < 2; ++c)
 		for (b = 0; b < 2; ++b) t[c][b] = (f->W - f->cw[c]) / (bw[b] - f->cw[c]);
 	pvs__ep_occludee_axis(f->cu, box->min[f->u], box->max[f->u], (const double(*)[2])t, f->u0, f->su, f->width,
-						  &rect[0], &rect[2]);
+			&rect[0], &rect[2]);
 	pvs__ep_occludee_axis(f->cv, box->min[f->v], box->max[f->v], (const double(*)[2])t, f->v0, f->sv, f->height,
-						  &rect[1], &rect[3]);
+			&rect[1], &rect[3]);
 	*depth = pvs__f_down(bw[0] - 1e-12 * bw[0]);
 	return 1;
 }
@@ -17784,7 +17784,7 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
    R(X)]: X's views from face; I = [a, b] works iff a <= min R and b >= max L (over box corners): if max L <= min R one
    point serves (*any = 1: one column must be hidden), else [min R, max L] (*any = 0: all). Indices may leave map. */
 PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W,
-									   double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
+		double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
 	double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
 	int x, y;
 	for (x = 0; x < 2; ++x)
@@ -17794,9 +17794,9 @@ PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double 
 			maxL = pvs__dmax(maxL, pvs__dmin(v0, v1));
 			minR = pvs__dmin(minR, pvs__dmax(v0, v1));
 			mag = pvs__dmax(mag,
-							(pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1]) +
-							 (pvs__dabs(Xk) + pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1])) * t + pvs__dabs(k0)) *
-								sk);
+					(pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1]) +
+					(pvs__dabs(Xk) + pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1])) * t + pvs__dabs(k0)) *
+					sk);
 		}
 	err = 1e-6 + 1e-12 * mag;
 	a = maxL + err;
@@ -17984,7 +17984,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 			q[0] = a0; q[1] = x; q[2] = a1; q[3] = A[(i + 2) % 3];
 			PVS__FOR3(k)
 				scale = pvs__dmax(scale,
-								  pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
+						pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
 			/* hull exceeds 2 triangles by <= this: slack */
 			dev = pvs__dabs(pvs__ep_plane_dist(n, x, a0)) / len;
 			if (dev > 1e-6 * scale) return 0;
@@ -18079,8 +18079,8 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
    count as straight, q: loop's hull (hp, hh: qcap + 1 scratch; 0 past max_hull points), *dent: deepest loop point in
    it. ends: 2 qcap. */
 PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep,
-										   uint32_t qcap, pvs__epend *ends, double tol, double (*hp)[2],
-										   double (*hh)[2], int max_hull, double *dent) {
+		uint32_t qcap, pvs__epend *ends, double tol, double (*hp)[2],
+		double (*hh)[2], int max_hull, double *dent) {
 	uint32_t nb = 0, i, j, n = 0, m;
 	double area = 0.0, turn = 0.0;
 	PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
@@ -18232,7 +18232,7 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
 /* 1 if component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each triangle's plane to float precision;
    *slack: 2x worst violation (hull exceeds surface by no more). */
 PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
-										 uint32_t n, double *slack) {
+		uint32_t n, double *slack) {
 	uint32_t t, i, k;
 	double scale = 0.0, worst = 0.0;
 	for (i = 0; i < n; ++i)
@@ -18259,7 +18259,7 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
 /* 1 if all vertices within float precision of largest triangle's plane. Flat closed mesh (two-sided wall) bounds no
    volume: neither solid (hull would fill windows) nor sliced. */
 PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
-									   uint32_t n) {
+		uint32_t n) {
 	uint32_t t, i, k, best = 0;
 	double bl = 0.0, nrm[3], scale = 0.0;
 	const float *c0 = NULL;
@@ -18290,7 +18290,7 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
 /* Cap of component whose boundary edges (pairs in bnd) lie exactly in axis plane x_k = c, all vertices on one side:
    *side = +1 if solid where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance. */
 PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv,
-								 uint32_t nuv, int *axis, float *c, int *side) {
+		uint32_t nuv, int *axis, float *c, int *side) {
 	int k;
 	uint32_t i;
 	PVS__FOR3(k) {
@@ -18313,7 +18313,7 @@ PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, 
 
 /* 1 if triangle B in A's plane (normal na, length la) to float precision, facing alike. */
 PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double la, const float *const *B,
-								 double scale) {
+		double scale) {
 	double nb[3];
 	int k;
 	if (!(pvs__tri_cross(B[0], B[1], B[2], nb) > 0.0) || !(na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.0))
@@ -18331,7 +18331,7 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
 /* Odd-use edges (sorted keys, smaller canonical id high) of triangles tl[ids[i] & 0xffffffff] (ids NULL: tl[i]), i < n,
    into out (not ids); count. */
 PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t *tl, const uint64_t *ids, uint32_t n,
-									   uint64_t *out) {
+		uint64_t *out) {
 	uint32_t i, k, ne = 0, nb = 0;
 	for (i = 0; i < n; ++i)
 		PVS__FOR3(k) {
@@ -18353,8 +18353,8 @@ PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t 
    (unit normal nr / lr, vertices within dev); points (vertex hull) for selection only. Past PVS__EP_CONCAVE_EDGES edges
    stays in pieces. */
 PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
-										   pvs__epprepwork *w, uint32_t m, uint32_t cnt, const double *nr, double lr,
-										   double dev, double scale) {
+		pvs__epprepwork *w, uint32_t m, uint32_t cnt, const double *nr, double lr,
+		double dev, double scale) {
 	uint32_t h, nb, ax = 0, u, v, i, nh = 0;
 	int k, hn;
 	pvs_result r = PVS_OK;
@@ -18385,7 +18385,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 		q3[nh++] = hit;
 	}
 	if (!pvs__grow_array(&p->allocator, (void **)&p->cedge, &p->cedge_capacity, p->cedge_count, p->cedge_count + nb,
-							6 * sizeof(float), &r))
+			6 * sizeof(float), &r))
 		return r;
 	o = p->occ + p->occ_count;
 	pvs__ep_add(p, q3, nh, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
@@ -18408,7 +18408,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 /* Union-finds into w->gparent (smaller index roots) edge-sharing triangles coplanar to float precision (`scale`: 2x max
    coordinate) facing alike. Needs 3 n < 2^21 (21-bit packing). */
 PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
-									   pvs__epprepwork *w, double scale) {
+		pvs__epprepwork *w, double scale) {
 	uint32_t j, k, ne = 0, g;
 	for (j = 0; j < n; ++j)
 		PVS__FOR3(k) {
@@ -18443,8 +18443,8 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 /* Planar group's edges in (u, v) into w->e2 (ends ordered, with triangle); *dev: farthest vertex from plane (nr, lr)
    through A[0]; *area: (u, v) area. Returns count. */
 PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
-										 uint32_t m, uint32_t cnt, const float *const *A, const double *nr, double lr,
-										 uint32_t u, uint32_t v, double *dev, double *area) {
+		uint32_t m, uint32_t cnt, const float *const *A, const double *nr, double lr,
+		uint32_t u, uint32_t v, double *dev, double *area) {
 	uint32_t h, e = 0;
 	for (h = m; h < m + cnt; ++h) {
 		uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
@@ -18455,7 +18455,7 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 		}
 		*area += 0.5 *
 			pvs__dabs(((double)C[1][u] - C[0][u]) * ((double)C[2][v] - C[0][v]) -
-					  ((double)C[2][u] - C[0][u]) * ((double)C[1][v] - C[0][v]));
+					((double)C[2][u] - C[0][u]) * ((double)C[1][v] - C[0][v]));
 		PVS__FOR3(c) {
 			const float *x = C[c], *y = C[(c + 1) % 3];
 			float P0[2], P1[2];
@@ -18473,8 +18473,8 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 /* Planar group's convex polygon (k corners in w->q2, (u, v) plane of nr's dominant axis ax) as occluder, triangles
    marked in w->used; none if a corner is no group vertex. */
 PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
-									pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
-									double lr, uint32_t ax, double dev, double dent, double scale) {
+		pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
+		double lr, uint32_t ax, double dev, double dent, double scale) {
 	const float *q3[PVS__EP_MAXP];
 	uint32_t i, h, found = 0, u = (ax + 1) % 3, v = (ax + 2) % 3;
 	for (i = 0; i < k; ++i) { /* corners back in 3D */
@@ -18521,7 +18521,7 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
    edge to its penumbra. Edge-connected, coplanar, like-facing triangles forming one convex polygon of <= PVS__EP_MAXP
    corners: one planar occluder (marked in w->used); other groups: concave ones. */
 PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
-											uint32_t n, pvs__epprepwork *w) {
+		uint32_t n, pvs__epprepwork *w) {
 	uint32_t j, k, g;
 	double scale = 0.0;
 	pvs_result r = PVS_OK;
@@ -18556,7 +18556,7 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
 		e = pvs__ep_group_edges(s, t0, tl, w, m, cnt, A, nr, lr, u, v, &dev, &area);
 		if (dev > 1e-6 * scale || !(area > 0.0)) continue;
 		k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e, w->ends, 1e-4, (double(*)[2])w->hp,
-								  (double(*)[2])w->hh, PVS__EP_MAXP, &dent);
+				(double(*)[2])w->hh, PVS__EP_MAXP, &dent);
 		if (k < 3 || k > PVS__EP_MAXP || dent > 1e-6 * scale) {
 			r = pvs__ep_add_concave(p, s, t0, tl, w, m, cnt, nr, lr, dev, scale);
 			if (r != PVS_OK) return r;
@@ -18609,7 +18609,7 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
 
 /* Component `comp`'s boundary (odd-use edges) into w->edges, returns count; its vertices into w->uv[0..*nuv) */
 PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp,
-												uint32_t *nuv) {
+		uint32_t *nuv) {
 	uint32_t j, k, nb = pvs__ep_odd_edges(w, tl, NULL, n, w->edges);
 	*nuv = 0;
 	for (j = 0; j < n; ++j)
@@ -18622,7 +18622,7 @@ PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32
 
 /* Planar occluders: merged groups, then consecutive coplanar pairs forming convex quads, then lone nonzero-area ones */
 PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
-											uint32_t n, pvs__epprepwork *w) {
+		uint32_t n, pvs__epprepwork *w) {
 	uint32_t j, k;
 	pvs_result r = pvs__ep_merge_planar(p, s, t0, tl, n, w);
 	if (r != PVS_OK) return r;
@@ -18648,21 +18648,21 @@ PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scen
 
 /* Keeps closed or capped component for slicing (§3.3): triangles, box, if capped boundary edges and cap plane. */
 PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
-										 uint32_t n, const pvs__epprepwork *w, const uint32_t *bnd, uint32_t nb,
-										 int capped, int cap_axis, int cap_side, float cap_value) {
+		uint32_t n, const pvs__epprepwork *w, const uint32_t *bnd, uint32_t nb,
+		int capped, int cap_axis, int cap_side, float cap_value) {
 	const pvs_allocator *a = &p->allocator;
 	pvs__epslice *sl;
 	pvs_result r = PVS_OK;
 	uint32_t j, k;
 	if (!pvs__grow_array(a, (void **)&p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice),
-							&r))
+			&r))
 		return r;
 	if (!pvs__grow_array(a, (void **)&p->stri, &p->stri_capacity, p->stri_count, p->stri_count + n, sizeof(uint32_t),
-							&r))
+			&r))
 		return r;
 	if (capped) {
 		if (!pvs__grow_array(a, (void **)&p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb,
-								6 * sizeof(float), &r))
+				6 * sizeof(float), &r))
 			return r;
 	}
 	sl = p->slc + p->slc_count++;
@@ -18695,8 +18695,8 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 /* One component (triangles tl[0..n), root `comp`): closed or capped and convex: solid; else its polygons, kept for
    slicing if closed or capped. */
 PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0,
-												 const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t tn,
-												 pvs__epprepwork *w) {
+		const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t tn,
+		pvs__epprepwork *w) {
 	uint32_t nuv, j, k, closed, *bnd = w->owner; /* owner free now */
 	uint32_t nb = pvs__ep_component_boundary(w, tl, n, comp, &nuv), tris_local[2 * PVS__EP_MAXP];
 	int capped = 0, cap_axis = 0, cap_side = 0;
@@ -18748,7 +18748,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 }
 
 PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn,
-											  pvs__epprepwork *w) {
+		pvs__epprepwork *w) {
 	uint32_t comp;
 	pvs__ep_components(s, t0, tn, w);
 	for (comp = 0; comp < tn; ++comp) {
@@ -18825,7 +18825,7 @@ PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwo
 
 /* Keeps sheet polygon q (m vertices, plane x_axis = value) if among PVS__EP_MAX_SHEETS largest. */
 PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float value, const float *q, uint32_t m,
-										  double area) {
+		double area) {
 	pvs_result r = PVS_OK;
 	uint32_t slot;
 	if (p->sheet_count < PVS__EP_MAX_SHEETS) slot = p->sheet_count++;
@@ -18837,7 +18837,7 @@ PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float 
 		if (!(area > p->sheet[slot].area)) return PVS_OK;
 	}
 	if (!pvs__grow_array(&p->allocator, (void **)&p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m,
-							2 * sizeof(float), &r))
+			2 * sizeof(float), &r))
 		return r;
 	p->sheet[slot].axis = axis;
 	p->sheet[slot].value = value;
@@ -18851,7 +18851,7 @@ PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float 
 
 /* Sheets of n >= 2 triangles in axis plane: edge-joined pieces (lamp's base its own) forming convex polygons */
 PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene *s, const pvs__epskey *key, size_t n,
-										   pvs__epsheetwork *w) {
+		pvs__epsheetwork *w) {
 	int k = (int)key[0].axis, u = (k + 1) % 3, v = (k + 2) % 3;
 	uint32_t ne = (uint32_t)(3 * n), m;
 	pvs__epedge2 *e;
@@ -18866,7 +18866,7 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
 		PVS__FOR3(l) c[l] = s->positions + 3 * (size_t)ix[l];
 		w->tarea[g] = 0.5 *
 			pvs__dabs(((double)c[1][u] - c[0][u]) * ((double)c[2][v] - c[0][v]) -
-					  ((double)c[2][u] - c[0][u]) * ((double)c[1][v] - c[0][v]));
+					((double)c[2][u] - c[0][u]) * ((double)c[1][v] - c[0][v]));
 		w->uf[g] = (uint32_t)g;
 		PVS__FOR3(l) {
 			const float *x = c[l], *y = c[(l + 1) % 3];
@@ -18899,7 +18899,7 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
 		while (h < ne && e[h].tri == root) ++h;
 		area = w->tarea[root];
 		m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, w->q, w->keep, (uint32_t)w->cap, w->ends, 0.0, NULL,
-								  NULL, 0, NULL);
+				NULL, 0, NULL);
 		g = h;
 		if (!m) continue;
 		r = pvs__ep_keep_sheet(p, k, key[0].value, w->q, m, area);
@@ -18911,7 +18911,7 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
 /* 1 if convex occluder oc stands on sheet S: *on vertices exactly in its plane inside its polygon, rest on one side
    (*above), each exactly over one of those or inside their hull; not concave; <= PVS__EP_MAXP points once extended. */
 PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *oc, const pvs__epsheet *S, uint32_t *on,
-								  int *above) {
+		int *above) {
 	const float *pts = p->pts + 3 * (size_t)oc->first, *poly = p->spoly + 2 * (size_t)S->first;
 	int k = S->axis, u = (k + 1) % 3, v = (k + 2) % 3, below = 0, ok = 1, hn;
 	double fp[PVS__EP_MAXP][2], fh[PVS__EP_MAXP + 1][2];
@@ -18944,14 +18944,14 @@ PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *
 
 /* oc's extended point set: its points + its `on` points (in sheet sh's plane) pushed by D away from `above`. */
 PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint32_t sh, uint32_t on, int above,
-									  double D) {
+		double D) {
 	const pvs__epsheet *S = p->sheet + sh;
 	const float *pts;
 	pvs_result r = PVS_OK;
 	int k = S->axis;
 	uint32_t x;
 	if (!pvs__grow_array(&p->allocator, (void **)&p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on,
-							3 * sizeof(float), &r))
+			3 * sizeof(float), &r))
 		return r;
 	pts = p->pts + 3 * (size_t)oc->first;
 	oc->xfirst = (uint32_t)p->pt_count;
@@ -19125,7 +19125,7 @@ PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err)
 
 /* Builds scene's occluder list (§6.1 picks among it per cell). */
 PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out,
-											pvs_error *err) {
+		pvs_error *err) {
 	pvs__extproj_prep *p;
 	pvs__epprepwork w;
 	size_t occ_cap = (size_t)s->triangle_count + 1, pt_cap = 3 * (size_t)s->triangle_count + 1, most = 1;
@@ -19197,7 +19197,7 @@ typedef struct pvs__epslicer {
 
 /* Edge-end order for pvs__ep_cross fixed by position: both triangles of edge get one crossing; sections close. */
 PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const float *b, double *x, double *y,
-							   double *mag) {
+		double *mag) {
 	const float *p = a, *q = b;
 	double wp, wq, t, u, v;
 	if (pvs__fpoint_cmp(a, b, 3) > 0) { p = b; q = a; }
@@ -19209,8 +19209,8 @@ PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const floa
 	*x = (u - f->u0) * f->su;
 	*y = (v - f->v0) * f->sv;
 	*mag = pvs__dmax(*mag,
-					 (pvs__dabs(p[f->u]) + pvs__dabs(q[f->u]) + pvs__dabs(f->u0)) * f->su +
-						 (pvs__dabs(p[f->v]) + pvs__dabs(q[f->v]) + pvs__dabs(f->v0)) * f->sv);
+			(pvs__dabs(p[f->u]) + pvs__dabs(q[f->u]) + pvs__dabs(f->u0)) * f->su +
+			(pvs__dabs(p[f->v]) + pvs__dabs(q[f->v]) + pvs__dabs(f->v0)) * f->sv);
 }
 
 PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
@@ -19221,7 +19221,7 @@ PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
 /* Component c's section by w = W: segment (pixels) per crossing triangle into sc->seg from nseg on; vertices on plane
    count as beyond it; *mag grows to points' size. Returns new count. */
 PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
-										  const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double *mag) {
+		const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double *mag) {
 	uint32_t i;
 	for (i = 0; i < c->count; ++i) {
 		const uint32_t *ix = s->indices + 3 * (size_t)p->stri[c->first + i];
@@ -19253,7 +19253,7 @@ PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj
 /* Cap's section by w = W: boundary edges crossing plane give points on one line, paired in order into segments from
    nseg on. Returns new count, or 0xffffffff if odd (never if closed). */
 PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
-										 pvs__epslicer *sc, uint32_t nseg, double *mag) {
+		pvs__epslicer *sc, uint32_t nseg, double *mag) {
 	double *pts = sc->xs;
 	uint32_t i, ncap = 0, x, y;
 	int key;
@@ -19288,7 +19288,7 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
 /* Fills section's inside: per row parity spans of its centre line (half-open in y), less pixels segment crosses in
    row's band widened by m, get `depth` (where nearer) in map, f->bits in mask (either may be NULL). */
 PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double m,
-										  float depth, float *map, unsigned char *mask) {
+		float depth, float *map, unsigned char *mask) {
 	double ylo = DBL_MAX, yhi = -DBL_MAX;
 	int32_t j0, j1, j;
 	uint32_t i, written = 0;
@@ -19349,7 +19349,7 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
    so V-X crosses surface odd # of times, never cap (both strictly on its solid side): hits triangle nearer than W.
    Vertices on plane count as beyond it (symbolic perturbation): segments agree. */
 PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
-								   const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
+		const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
 	double mag = 0.0;
 	uint32_t nseg = pvs__ep_section_tris(s, p, c, f, sc, 0, &mag);
 	if (c->capped) {
@@ -19368,7 +19368,7 @@ PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
 
 /* Slice of sheet's solid half-space (beyond it from cell, over its polygon): pixels in by margin: Depth W. */
 PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side,
-										 const pvs__epframe *f, float *map, unsigned char *mask) {
+		const pvs__epframe *f, float *map, unsigned char *mask) {
 	int k = S->axis, along = f->a == (k + 1) % 3 ? 0 : 1; /* polygon coordinate of plane's axis */
 	const float *poly = p->spoly + 2 * (size_t)S->first;
 	double pos = f->face + f->s * f->W, lo = DBL_MAX, hi = -DBL_MAX, x0, x1, y0, y1, m, mag;
@@ -19419,8 +19419,8 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
 
 /* Slices each component plane cuts inside its rectangle. */
 PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
-									const pvs_extproj_plane *pl, const pvs__epframe *f, pvs__epslicer *sc,
-									const int *sheet_side, float *map, unsigned char *mask) {
+		const pvs_extproj_plane *pl, const pvs__epframe *f, pvs__epslicer *sc,
+		const int *sheet_side, float *map, unsigned char *mask) {
 	uint32_t i, written = 0;
 	double pos = f->face + f->s * f->W;
 	for (i = 0; i < p->sheet_count; ++i)
@@ -19442,7 +19442,7 @@ PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep 
 /* Clips concave boundary E (n edges) to w >= c (ge) or w <= c: kept edges cut exactly at c, + clip line's parts inside
    P (crossings sorted, paired by parity). E: room for 1.5 n + 1 edges. Returns new count. */
 PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epocc *o, double *E, uint32_t n,
-										  double cdepth, int ge) {
+		double cdepth, int ge) {
 	const pvs__epframe f = *fp;
 	uint32_t nc = 0, nx = 0, q;
 	double xs[PVS__EP_CONCAVE_EDGES][4], dir[3], best = 0.0, ea[3] = {0.0, 0.0, 0.0};
@@ -19492,7 +19492,7 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
 /* Marks in cmark (rows j0..j1, columns i0..i1) pixels edge e's penumbra may touch: hull of its ends' 16 corner views,
    widened by rounding and 1e-3 pixel. 0 (all marked) if too far to bound. */
 PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, double base, unsigned char *cmark,
-									  int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
+		int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
 	const pvs__epframe f = *fp;
 	double pts[16][2], hull[17][2], err = 0.0, hy0 = DBL_MAX, hy1 = -DBL_MAX;
 	int c, k = 0, hn, m;
@@ -19507,11 +19507,11 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 			pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
 			/* rounding: few ulps of terms, widely (ends exact) */
 			err = pvs__dmax(err,
-							1e-12 *
-								(pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
-								 ((pvs__dabs(Vu) + pvs__dabs((double)x[f.u])) * f.su +
-								  (pvs__dabs(Vv) + pvs__dabs((double)x[f.v])) * f.sv) *
-									 t));
+					1e-12 *
+					(pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
+					((pvs__dabs(Vu) + pvs__dabs((double)x[f.u])) * f.su +
+					(pvs__dabs(Vv) + pvs__dabs((double)x[f.v])) * f.sv) *
+					t));
 			++k;
 		}
 	}
@@ -19565,8 +19565,8 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 /* Test (2) for pixel (xm, row): 1 if line from cell's centre through pixel's centre meets o's plane before (front) or
    behind plane, inside boundary by parity, farther from it than slack. */
 PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *o, const double *E, uint32_t n,
-									   const double *world0, const double *pn, int pax, int front, double scale,
-									   int32_t xm, int32_t row) {
+		const double *world0, const double *pn, int pax, int front, double scale,
+		int32_t xm, int32_t row) {
 	double X[3], dir[3], den, t, cp[3], best = DBL_MAX, tol, slack = o->slack;
 	int c, inside = 0, pu = (pax + 1) % 3, pv = (pax + 2) % 3;
 	uint32_t q;
@@ -19585,8 +19585,8 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 		if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
 		s2 = l2 > 0.0 ? pvs__dmin(1.0, pvs__dmax(0.0, ((cp[pu] - ax) * ex + (cp[pv] - ay) * ey) / l2)) : 0.0;
 		best = pvs__dmin(best,
-						 sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) +
-							  (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
+				sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) +
+				(cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
 	}
 	/* surface within slack of plane: line crosses that slab over slack |dir| / |den|, 1 / |n_pax| longer in (pu, pv);
 	   nearer boundary: not trusted */
@@ -19601,7 +19601,7 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
    if (1) outside every boundary edge's penumbra (cmark) and (2) line from cell's centre through X crosses P; one test
    per unmarked run of row. Depth: farthest vertex + slack. */
 PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o,
-									 int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
+		int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
 	const pvs__epframe f = *fp;
 	double E[6 * (PVS__EP_CONCAVE_EDGES + PVS__EP_CONCAVE_EDGES / 2 + 1)];
 	uint32_t e, written = 0, n = o->ecount;
@@ -19732,7 +19732,7 @@ PVS__STATIC int pvs__ep_open(const pvs__ep_pyr *p, const pvs_extproj_plane *plan
 	uint32_t l = 0, tx, ty;
 	if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)plane->width || r[3] >= (int32_t)plane->height) return 1;
 	while (l < levels &&
-		   (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1))
+			(((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1))
 		++l;
 	for (ty = (uint32_t)r[1] >> l; ty <= (uint32_t)r[3] >> l; ++ty)
 		for (tx = (uint32_t)r[0] >> l; tx <= (uint32_t)r[2] >> l; ++tx)
@@ -19815,8 +19815,8 @@ PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsign
 /* Reprojection (§5.1): per column of `to`, range [lo, hi] of `from`'s pixels on u (per row, on v) crossed by rays from
    cell through it, extremes at cell corners and pixel edges; lo = -1 outside `from`. */
 PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, double W_from, double W_to, double to_k0,
-										double to_sk, uint32_t to_n, double from_k0, double from_sk, uint32_t from_n,
-										int32_t *lo, int32_t *hi) {
+		double to_sk, uint32_t to_n, double from_k0, double from_sk, uint32_t from_n,
+		int32_t *lo, int32_t *hi) {
 	uint32_t i;
 	double a[2];
 	int c;
@@ -20005,7 +20005,7 @@ PVS__STATIC int pvs__ep_wanted(const pvs__epcell *c, uint32_t o) {
 /* §6.1: occludees top-down through object kD-tree, hidden nodes skipped; object visible if its box cut by leaf is
    (sweep: pvs__ep_parts_visible). Coarse: PVS__EP_COARSE_ANGLE. */
 PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
-									uint32_t count) {
+		uint32_t count) {
 	pvs__epcell *c = (pvs__epcell *)user;
 	uint32_t i;
 	if (distance < 0.0f || (c->coarse && items && c->tests >= PVS__EP_COARSE_TESTS)) {
@@ -20142,7 +20142,7 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
    plane inside span, which holds cell's (as pvs__epslab needs). §6.1's planes not fitted: §4 often hides by pixels
    outside span. */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels,
-								   size_t room, pvs_extproj_plane *pl) {
+		size_t room, pvs_extproj_plane *pl) {
 	int a = (int)pl->axis, k;
 	uint32_t side = pvs__ep_max_side(res);
 	double len[2], w, h, px = (double)res * res;
@@ -20293,7 +20293,7 @@ PVS__STATIC int pvs__ep_sel_wanted(const pvs__epselect *w, const pvs_box *box, d
 }
 
 PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
-										uint32_t count) {
+		uint32_t count) {
 	pvs__epselect *w = (pvs__epselect *)user;
 	const pvs__extproj_prep *p = w->p;
 	const pvs_box *cell = w->cell;
@@ -20332,8 +20332,8 @@ PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, flo
 }
 
 PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
-									  const pvs_word *candidates, pvs__epsel *sel, uint32_t n, uint32_t *nsel,
-									  pvs_word *seen, void *sweep, size_t sweep_size) {
+		const pvs_word *candidates, pvs__epsel *sel, uint32_t n, uint32_t *nsel,
+		pvs_word *seen, void *sweep, size_t sweep_size) {
 	pvs__epselect w;
 	uint32_t i, d;
 	pvs_result r;
@@ -20367,7 +20367,7 @@ PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_pre
 }
 
 PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_t *lw, uint32_t *lh, size_t elem,
-								void *base, void **lv) {
+		void *base, void **lv) {
 	uint32_t k;
 	unsigned char *b = (unsigned char *)base;
 	for (k = 0; k <= levels; ++k) {
@@ -20383,7 +20383,7 @@ PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_
 /* Occluder points for plane of `axis`: extended through its sheet if cell over it on occluder's side and extension
    crosses axis (along it, it only pushes Depth away); NULL: capped solid not over cell. */
 PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell,
-										const int *sheet_side, int axis, uint32_t *count) {
+		const int *sheet_side, int axis, uint32_t *count) {
 	if (!pvs__ep_cap_ok(o->cap_side, o->cap_axis, o->cap_value, cell)) return NULL;
 	if (o->xcount && sheet_side[o->sheet] == o->xside && p->sheet[o->sheet].axis != axis) {
 		*count = o->xcount;
@@ -20403,7 +20403,7 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
 		side[i] = cell->min[k] > S->value ? 1 : cell->max[k] < S->value ? -1 : 0;
 		for (c = 0; c < 4 && side[i]; ++c)
 			if (!pvs__ep_in_convex(poly, S->count, c & 1 ? cell->max[u] : cell->min[u],
-								   c & 2 ? cell->max[v] : cell->min[v]))
+					c & 2 ? cell->max[v] : cell->min[v]))
 				side[i] = 0;
 	}
 }
@@ -20412,9 +20412,9 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
    §7.3; in front it loses it to penumbra), others per distance band (far / r^q, far / r^(q-1)], r =
    PVS__EP_PLANE_RATIO, behind band's occluder filling most pixels, for nearer occludees and fusion (Fig. 16). */
 PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
-									   const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
-									   float *mem, size_t map_floats, pvs__epslicer *sc, const int *sheet_side,
-									   pvs__epmap *maps) {
+		const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
+		float *mem, size_t map_floats, pvs__epslicer *sc, const int *sheet_side,
+		pvs__epmap *maps) {
 	int a = d >> 1, q;
 	double ext = (double)cell->max[a] - cell->min[a], far = 0.0, w0, w1;
 	uint32_t k, j;
@@ -20447,7 +20447,7 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
 		pvs__ep_make_plane(cell, d, W, prm->res, &m->plane);
 		m->levels = levels;
 		pvs__ep_levels(prm->res, prm->res, levels, m->lw, m->lh, sizeof(float), mem + (size_t)q * map_floats,
-					   (void **)m->lv);
+				(void **)m->lv);
 		for (k = 0; k < prm->res * prm->res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
 		if (!pvs__ep_frame(&m->plane, &m->frame)) continue;
 		for (k = 0; k < n; ++k) {
@@ -20456,7 +20456,7 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
 			if (p->occ[h[k].occ].ecount) pvs__ep_concave(&m->frame, p, p->occ + h[k].occ, 0, sc->cmark, m->lv[0], NULL);
 			else if (pts)
 				pvs__ep_occluder(&m->frame, cell, pts, cnt, p->occ[h[k].occ].solid, p->occ[h[k].occ].slack, 0, m->lv[0],
-								 NULL);
+						NULL);
 		}
 		pvs__ep_slices(s, p, cell, &m->plane, &m->frame, sc, sheet_side, m->lv[0], NULL);
 		pvs__ep_build_pyramid(m);
@@ -20469,7 +20469,7 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
    column (pvs__ep_reproject_axis); summed-area table of from's open pixels decides. Sub-cell j: own kernel, sat_split
    lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
 PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split,
-									   pvs__epmask *to, int32_t *ranges, uint32_t j) {
+		pvs__epmask *to, int32_t *ranges, uint32_t j) {
 	unsigned char *mask = to->lv[0];
 	const pvs__epframe *tf = pvs__ep_subframe(to, j);
 	unsigned char bit = tf->bits;
@@ -20477,9 +20477,9 @@ PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *
 			 W1 = fw + 1;
 	int32_t *clo = ranges, *chi = ranges + tw, *rlo = ranges + 2 * tw, *rhi = ranges + 2 * tw + th;
 	pvs__ep_reproject_axis(tf->cu, tf->cw, from->frame.W, tf->W, tf->u0, tf->su, tw, from->frame.u0, from->frame.su, fw,
-						   clo, chi);
+			clo, chi);
 	pvs__ep_reproject_axis(tf->cv, tf->cw, from->frame.W, tf->W, tf->v0, tf->sv, th, from->frame.v0, from->frame.sv, fh,
-						   rlo, rhi);
+			rlo, rhi);
 	for (y = 0; y < th; ++y) {
 		size_t y0, y1;
 		if (rlo[y] < 0) continue;
@@ -20555,7 +20555,7 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
    equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j to k. `cached` (never
    with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
 PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat,
-										 size_t stride, int cached, int32_t *ranges) {
+		size_t stride, int cached, int32_t *ranges) {
 	uint32_t back;
 	for (back = 1; back <= count; back *= 2) {
 		if (cached)
@@ -20593,7 +20593,7 @@ PVS__STATIC int pvs__ep_slab_wanted(const pvs__epslab *sl, const pvs_box *b) {
 }
 
 PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
-										 uint32_t count) {
+		uint32_t count) {
 	pvs__epslab *sl = (pvs__epslab *)user;
 	const pvs__extproj_prep *p = sl->p;
 	uint32_t j, k;
@@ -20627,9 +20627,9 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
    close; none nearer than C: occluder of width s < C / 2 at w casts umbra ending before w C / (C - s) < 2 w (nearer
    occluders still reach first plane); far end (scene's: §6.1 favours near occluders) holds no plane. */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
-											const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
-											pvs__epscratch *w, const int *sheet_side, const pvs_word *candidates,
-											pvs__epmask *ms, uint32_t *planes) {
+		const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
+		pvs__epscratch *w, const int *sheet_side, const pvs_word *candidates,
+		pvs__epmask *ms, uint32_t *planes) {
 	int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3, cls;
 	double ext = (double)cell->max[a] - cell->min[a],
 		   C = pvs__dmax((double)cell->max[u] - cell->min[u], (double)cell->max[v] - cell->min[v]);
@@ -20678,7 +20678,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 		m->nsub = 0;
 		if (prm->split) pvs__ep_split_mask(m);
 		pvs__ep_levels(m->plane.width, m->plane.height, levels, m->lw, m->lh, 1,
-					   w->masks + (size_t)((ms - w->mask_hdr) + count) * w->mask_bytes, (void **)m->lv);
+				w->masks + (size_t)((ms - w->mask_hdr) + count) * w->mask_bytes, (void **)m->lv);
 		mask = m->lv[0];
 		memset(mask, 0, (size_t)m->plane.width * m->plane.height);
 		pvs__ep_reproject_sweep(ms, count, m, w->sat, w->sat_table, cached, w->ranges);
@@ -20711,8 +20711,8 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 /* One cell's PVS (Durand 2000 §6.1): per direction chosen occluders on §6.1's planes and §5's sweep, then occludees
    front to back. `candidates` (adaptive sub-cell): only these tested, others' occluders left out. */
 PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
-										 const pvs__epparams *prm, const pvs_word *candidates, const pvs_allocator *al,
-										 pvs_word *bits, uint32_t cell_id, pvs_error *err) {
+		const pvs__epparams *prm, const pvs_word *candidates, const pvs_allocator *al,
+		pvs_word *bits, uint32_t cell_id, pvs_error *err) {
 	pvs__epcell c;
 	pvs__epscratch w;
 	pvs__buf wb[13];
@@ -20767,11 +20767,11 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
 		const pvs__epsel *h = w.sel + (size_t)d * nper;
 		if (!nsel[d]) continue;
 		pvs__ep_direct_planes(s, p, cell, (int)d, h, nsel[d] < prm->max_occ ? nsel[d] : prm->max_occ, prm, levels,
-							  w.maps + (size_t)PVS__EP_PLANES * d * w.map_floats, w.map_floats, &w.slicer, sheet_side,
-							  c.maps + PVS__EP_PLANES * d);
+				w.maps + (size_t)PVS__EP_PLANES * d * w.map_floats, w.map_floats, &w.slicer, sheet_side,
+				c.maps + PVS__EP_PLANES * d);
 		if (prm->sweep) {
 			r = pvs__ep_sweep_planes(s, p, cell, (int)d, h, nsel[d], prm, levels, &w, sheet_side, candidates,
-									 w.mask_hdr + (size_t)d * prm->sweep, &c.mask_count[d]);
+					w.mask_hdr + (size_t)d * prm->sweep, &c.mask_count[d]);
 			if (r != PVS_OK) {
 				r = pvs__fail(err, r, cell_id, 0, "extproj: occlusion sweep of cell %u", cell_id);
 				goto done;
@@ -20811,7 +20811,7 @@ PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_er
 
 /* desc's parameters, else defaults (PREVIEW: coarse; AUTO: with sweep). */
 PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
-												 pvs_error *err) {
+		pvs_error *err) {
 	pvs__extproj_bake *x = (pvs__extproj_bake *)pvs__alloc(&env->allocator, sizeof(pvs__extproj_bake), 16);
 	int preview = (env->flags & PVS_BAKE_PREVIEW) != 0;
 	*state = x;
@@ -20840,8 +20840,8 @@ PVS__STATIC int pvs__extproj_bake_applies(const void *state, const char **why) {
 
 /* Tests only candidates (if given), sets no other object. */
 PVS__STATIC pvs_result pvs__extproj_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
-											  const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
-											  unsigned *flags, pvs_error *err) {
+		const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+		unsigned *flags, pvs_error *err) {
 	const pvs__extproj_bake *x = (const pvs__extproj_bake *)state;
 	(void)task;
 	(void)flags;
@@ -20935,7 +20935,7 @@ PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], c
 
 /* Bin b's part [a0, a1] covered by facade seen from outside, crossed at d0, d1; line nearest at (afoot, dfoot). */
 PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot,
-							   double afoot) {
+		double afoot) {
 	double lo, hi;
 	if (!(d0 > 0.0) || !(d1 > 0.0)) return;
 	hi = pvs__dmax(d0, d1) * (1.0 + 1e-9);
@@ -21039,7 +21039,7 @@ PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
 /* Bins [*b0, *b1] (b1 >= BINS if wrapping) and ground distances *dmin, *dmax from eye of rectangle u0..u1, v0..v1; 0 if
    eye in or on it. Span runs CCW between silhouette corners. */
 PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1,
-							 double *dmin, double *dmax) {
+		double *dmin, double *dmax) {
 	/* corners where rectangle starts and ends CCW, by region 3 rx + ry: bits 3, 2 (start) and 1, 0 (end) pick x1 over
 	   x0, y1 over y0 */
 	static const unsigned char ends[9] = {9, 1, 3, 8, 0, 7, 12, 14, 6};
@@ -21208,7 +21208,7 @@ PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *
 					pvs__hz_chain(w->hz, w->o->chains + it);
 					++w->st->occluders_drawn;
 				} else if (!pvs_bitset_test(w->visible, it) &&
-						   pvs__shrink_test(w, w->o->scene->object_boxes + it, mode))
+						pvs__shrink_test(w, w->o->scene->object_boxes + it, mode))
 					pvs__shrink_found(w, it);
 			}
 		} else {
@@ -21242,7 +21242,7 @@ PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box 
    it): on its edges every 2 eps if pvs__shrink_edges_suffice allows, else grid of spacing eps sqrt(2); per sample its
    horizon (§3.4) and objects it may see. */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
-									   pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
+		pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
 	pvs__shrink_walk w;
 	pvs__hz *hz;
 	float eps = o->info.eps;
@@ -21356,7 +21356,7 @@ typedef struct pvs__shrink3d {
 /* Into w->cand, objects a view from p along dax can change (unseen, pvs__shrink_in_view); *far: their farthest depth;
    crect: their images' union while *bounded stays 1. Returns count. */
 PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, int dax, int pos, double *far,
-											double crect[4], int *bounded) {
+		double crect[4], int *bounded) {
 	const pvs_scene *s = w->s;
 	uint32_t ob, ncand = 0;
 	double brect[4];
@@ -21419,14 +21419,14 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
 /* Samples of cell face `face` (axis face / 2, max side if odd) at spacing <= `spacing`, corners included, each looking
    6 ways; UNSUPPORTED past 1024 a side. */
 PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, uint32_t face, float spacing,
-										pvs_error *err) {
+		pvs_error *err) {
 	int ax = (int)face / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
 	uint32_t n1 = (uint32_t)ceil(((double)cell->max[a1] - cell->min[a1]) / spacing) + 1u;
 	uint32_t n2 = (uint32_t)ceil(((double)cell->max[a2] - cell->min[a2]) / spacing) + 1u;
 	uint32_t a, b, dir;
 	if (n1 > 1024u || n2 > 1024u)
 		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED,
-						 "a cell face of %u x %u samples: eps too small for the cell", n1, n2);
+				"a cell face of %u x %u samples: eps too small for the cell", n1, n2);
 	for (a = 0; a < n1; ++a)
 		for (b = 0; b < n2; ++b) {
 			float p[3];
@@ -21447,7 +21447,7 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
    boundary, all within eps of sample), each a cube of 6 depth maps of eroded boxes; PVS: their union. Objects within 2x
    near distance set (cube sees nothing nearer than its near plane). */
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
-									  pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
+		pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
 	pvs_raster_desc rd;
 	pvs__shrink3d w;
 	pvs_result res;
@@ -21515,7 +21515,7 @@ done:
 }
 
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
-								   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err) {
+		pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err) {
 	pvs_result res;
 	pvs_shrink_stats st;
 	PVS__ZERO(st);
@@ -21602,7 +21602,7 @@ typedef struct pvs__shrink_bake {
 
 /* Occluder synthesis over every cell of bake, not only shard's, so shards agree. */
 PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
-												pvs_error *err) {
+		pvs_error *err) {
 	pvs__shrink_bake *sh;
 	pvs_occluders_desc od;
 	pvs_result r;
@@ -21661,8 +21661,8 @@ PVS__STATIC void pvs__shrink_bake_preset(const pvs__bake_env *env, const pvs_wor
 }
 
 PVS__STATIC pvs_result pvs__shrink_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
-											 const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
-											 unsigned *flags, pvs_error *err) {
+		const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+		unsigned *flags, pvs_error *err) {
 	const pvs__shrink_bake *sh = (const pvs__shrink_bake *)state;
 	pvs_shrink_stats st;
 	pvs_result r;
@@ -21796,14 +21796,14 @@ PVS__STATIC void *pvs__bake_method_state(const pvs_bake *b, pvs_method m) {
 
 /* Per-bake state, read-only in tasks. */
 PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *row, const pvs_bake_desc *desc,
-										 pvs_error *err) {
+		pvs_error *err) {
 	return row->prepare(&b->env, desc, &b->state[row->method], err);
 }
 
 /* Candidates of box's k-th method: its own (sub-cell's parent PVS, or NULL), from second on narrowed to what earlier
    kept (AUTO runs SHRINK last). In *scratch if computed. */
 PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const pvs_word *candidates,
-											const pvs_word *each, pvs_word *scratch) {
+		const pvs_word *each, pvs_word *scratch) {
 	size_t w;
 	uint32_t i;
 	if (k == 0) return candidates;
@@ -21817,8 +21817,8 @@ PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const
 
 /* One method's PVS of task's box into `bits` (cleared by caller); updates cell's flags. */
 PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, const pvs__bake_method *row, uint32_t task, uint32_t cell,
-											 const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
-											 pvs_error *err) {
+		const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+		pvs_error *err) {
 	unsigned flags = 0;
 	pvs_result r = row->cell(&b->env, b->state[row->method], task, cell, box, candidates, bits, &flags, err);
 	b->cell_flags[task] |= (unsigned char)flags;
@@ -21906,7 +21906,7 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 		return PVS__BAD_ARG(err, "max_distance must be finite and >= 0");
 	if (desc->flags & ~(PVS_BAKE_PREVIEW | PVS_BAKE_COMPACT | PVS_BAKE_NO_LOOKUP) ||
 		((desc->flags & PVS_BAKE_NO_LOOKUP) && (method == PVS_METHOD_VOCC || desc->shard_count > 1 ||
-												desc->adaptive.budget)))
+			desc->adaptive.budget)))
 		return PVS__BAD_ARG(err, "bake flags 0x%x: unknown, or no look-up with vocc, shards, adaptive", desc->flags);
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) {
 		const pvs__bake_method *m = pvs__bake_methods[k];
@@ -21920,11 +21920,11 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "adaptive cells in a sharded bake (part files index whole cells)");
 	if (desc->adaptive.budget && row && (row->traits & PVS__METHOD_WHOLE_CELLS))
 		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED,
-						 "adaptive cells with %s (its records belong to whole cells)", pvs_method_name(method));
+				"adaptive cells with %s (its records belong to whole cells)", pvs_method_name(method));
 	if (method == PVS_METHOD_AUTO) {
 		if (desc->methods & ~conservative)
 			return PVS__BAD_ARG(err, "methods mask 0x%x names a method that is not conservative or unknown "
-								"(auto never intersects sample)", desc->methods);
+					"(auto never intersects sample)", desc->methods);
 		*mask = desc->methods ? desc->methods : byauto;
 	} else if (desc->methods) {
 		return PVS__BAD_ARG(err, "methods is for PVS_METHOD_AUTO only");
@@ -21941,7 +21941,7 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 	size_t total, bytes, i;
 	if (!pvs__mul(b->words, b->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &bytes))
 		return PVS__FAIL(err, PVS_ERROR_COUNT_OVERFLOW, "%u cells x %u objects do not fit in memory",
-						 desc->cell_count, b->object_count);
+				desc->cell_count, b->object_count);
 	b->cells = PVS__ALLOC_N(a, pvs_box, b->cell_count);
 	if ((desc->flags & PVS_BAKE_COMPACT) || bytes > PVS_BAKE_COMPACT_BYTES) {
 		b->rec = (uint8_t **)pvs__alloc_array(a, b->cell_count, sizeof(uint8_t *));
@@ -21993,7 +21993,7 @@ PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, co
    U - R (no method culls R; no sample: R empty). */
 #define PVS__SAMPLE_SLOTS (PVS_METHOD_COUNT + 3)
 PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, const pvs_bake_desc *sd,
-										uint32_t mask, pvs_word *sb, pvs_error *err) {
+		uint32_t mask, pvs_word *sb, pvs_error *err) {
 	uint32_t k, j, s, order[PVS__BAKE_METHOD_COUNT], n = b->object_count;
 	int cheapest = 1 << 20, key[PVS__BAKE_METHOD_COUNT];
 	double u = 0.0, left = 0.0; /* sample's sums of |U|, |U - R| */
@@ -22049,7 +22049,7 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 	}
 	if (!b->run_count && b->considered_count == 1)
 		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "auto: %s: %s", pvs_method_name(b->considered[0]->method),
-						 b->reason[0]);
+				b->reason[0]);
 	if (!b->run_count)
 		return PVS__FAIL(err, PVS_ERROR_UNSUPPORTED, "auto: no conservative method can cull anything in this scene");
 	return PVS_OK;
@@ -22122,7 +22122,7 @@ PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, u
 
 /* AUTO with sample (pvs__bake_wants_sample). */
 PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask,
-												pvs_error *err) {
+		pvs_error *err) {
 	pvs_box sample[PVS_AUTO_SAMPLE_CELLS];
 	pvs_bake_desc sd = *desc;
 	uint32_t s, k, i, kept = 0, S = PVS_AUTO_SAMPLE_CELLS;
@@ -22268,14 +22268,14 @@ PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_w
 
 /* All methods on box, intersected, within `candidates` if given, then draw distance. `each`: run_count + 1. */
 PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box,
-									 const pvs_word *candidates, pvs_word *bits, pvs_word *each, pvs_error *err) {
+		const pvs_word *candidates, pvs_word *bits, pvs_word *each, pvs_error *err) {
 	uint32_t k;
 	pvs_result r = PVS_OK;
 	memset(each, 0, (size_t)b->run_count * b->words * sizeof(pvs_word));
 	for (k = 0; k < b->run_count && r == PVS_OK; ++k)
 		r = pvs__bake_method_cell(b, b->run[k], task, cell, box,
-								  pvs__bake_prior(b, k, candidates, each, each + (size_t)b->run_count * b->words),
-								  each + (size_t)k * b->words, err);
+				pvs__bake_prior(b, k, candidates, each, each + (size_t)b->run_count * b->words),
+				each + (size_t)k * b->words, err);
 	if (r != PVS_OK) return r;
 	pvs__bake_prior(b, b->run_count, candidates, each, bits); /* all of them (run_count >= 1) */
 	pvs__bake_distance(b, box, bits);
@@ -22295,7 +22295,7 @@ PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits
 /* Adaptive split (Durand 2000 §6.1) of box with PVS work[depth]: leaf if PVS fits budget or half < min_size, else
    halves across longest side, low first, baked from its PVS. work: 48 bitsets; each: run_count + 1. */
 PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size,
-									   pvs_word *work, pvs_word *each, uint32_t depth, pvs_error *err) {
+		pvs_word *work, pvs_word *each, uint32_t depth, pvs_error *err) {
 	pvs__bakeleaves *L = b->leaves + task;
 	const pvs_word *bits = work + (size_t)depth * b->words;
 	int k, axis = 0;
@@ -22342,7 +22342,7 @@ PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell
 
 /* Task's adaptive leaves below its PVS `bits`, from scratch. */
 PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_word *bits,
-									   pvs_error *err) {
+		pvs_error *err) {
 	const pvs_box *c = b->cells + task;
 	float min_size = b->adaptive_min_size, longest = 0.0f;
 	size_t nw = (49 + (size_t)b->run_count) * b->words;
@@ -22447,7 +22447,7 @@ PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *b) {
 PVS_API int pvs_bake_task_done(const pvs_bake *b, uint32_t task) { return b && task < b->cell_count && b->done[task]; }
 
 PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_word *bits, size_t word_count,
-										 pvs_error *err) {
+		pvs_error *err) {
 	uint32_t i;
 	if (!b || !bits || task >= b->cell_count)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u out of range or NULL", task);
@@ -22456,19 +22456,19 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_w
 	if ((b->run[0]->traits & PVS__METHOD_WHOLE_CELLS) &&
 		b->method != PVS_METHOD_AUTO) /* its file stores more than PVSs */
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
-						 "restore: a %s bake cannot resume from PVSs: run task %u again", pvs_method_name(b->method),
-						 task);
+				"restore: a %s bake cannot resume from PVSs: run task %u again", pvs_method_name(b->method),
+				task);
 	if (b->adaptive_budget) /* file stores leaves, not in cell's PVS */
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
-						 "restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
+				"restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
 	if ((b->object_count & 63u) && (bits[b->words - 1] >> (b->object_count & 63u)))
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets a bit past the %u objects",
-						 task, b->object_count);
+				task, b->object_count);
 	for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count;
 		 i = pvs_bitset_next(bits, b->object_count, i + 1))
 		if (b->env.scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)
 			return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets occluder-only object %u",
-							 task, i);
+					task, i);
 	if (b->pvs) memcpy(b->pvs + (size_t)task * b->words, bits, b->words * sizeof(pvs_word));
 	else if (pvs__bake_keep(b, task, bits, err) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
 	b->restored[task] = 1;
@@ -22567,7 +22567,7 @@ PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cell
 
 /* Encodes bake (out NULL: measures). */
 PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t capacity, size_t *out_size,
-										pvs_error *err) {
+		pvs_error *err) {
 	pvs_file_desc fd;
 	pvs_box *cells = NULL;
 	pvs_word *pvs = NULL;
@@ -22595,14 +22595,14 @@ PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
 }
 
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capacity, size_t *out_size,
-									   pvs_error *err) {
+		pvs_error *err) {
 	uint32_t i;
 	if (!b) return PVS__BAD_ARG(err, "bake is NULL");
 	if (out_size) *out_size = 0;
 	for (i = 0; i < b->cell_count; ++i)
 		if (!b->done[i])
 			return pvs__fail(err, PVS_ERROR_NOT_DONE, pvs_bake_task_cell(b, i), 0, "cell %u has not been baked",
-							 pvs_bake_task_cell(b, i));
+					pvs_bake_task_cell(b, i));
 	return pvs__bake_encode(b, out, capacity, out_size, err);
 }
 
@@ -22740,7 +22740,7 @@ PVS__STATIC uint32_t pvs__order_at(const pvs_file *f, uint32_t k) {
 /* Applies record payload p[0..end) to bits in place: key (bits empty) or delta (bits: base's PVS). Any bytes give
    some set of ids < object_count. learn: NULL, or adaptive probabilities instead of file's. */
 PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint8_t *end, uint32_t key,
-								 pvs_word *bits, uint16_t *learn) {
+		pvs_word *bits, uint16_t *learn) {
 	uint32_t n = f->object_count, words = (uint32_t)PVS_BITSET_WORDS(n), w, k, ch = 0, pc = 0, pb = 0, pc2 = 0, o, on;
 	uint32_t x1 = 0, x2 = 0xffffffffu, x = 0, y, mid, ctx;
 	const uint16_t *prob = learn ? learn : f->private_.prob;
@@ -22924,7 +22924,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 	float best_v = 0.0f;
 	if (level == b->depth) {
 		if (!pvs__grow_array(b->a, (void **)&b->items, &b->item_capacity, b->item_bytes, b->item_bytes + 5 * (size_t)n,
-								1, &r))
+				1, &r))
 			return r;
 		b->leaf_start[b->leaves_done++] = (uint32_t)b->item_bytes;
 		for (i = 0; i < n; ++i)
@@ -22997,7 +22997,7 @@ typedef struct pvs__candidates {
 } pvs__candidates;
 
 PVS__STATIC pvs_visit pvs__collect_candidates(void *user, const pvs_box *node_box, float distance,
-											  const uint32_t *items, uint32_t item_count) {
+		const uint32_t *items, uint32_t item_count) {
 	pvs__candidates *c = (pvs__candidates *)user;
 	uint32_t i, j;
 	(void)node_box;
@@ -23325,7 +23325,7 @@ PVS__STATIC void pvs__encoder_model(pvs__encoder *e) {
 	a.counts = counts;
 	for (i = 0; i < e->cells; ++i)
 		pvs__rec_code(&a, pvs__encoder_prow(e, i, 0),
-					  e->base[i] == PVS_NO_CELL ? NULL : pvs__encoder_prow(e, e->base[i], 1), e->n);
+				e->base[i] == PVS_NO_CELL ? NULL : pvs__encoder_prow(e, e->base[i], 1), e->n);
 	for (k = 0; k < PVS__CTX_COUNT; ++k) {
 		uint64_t n1 = counts[2 * k + 1], n = counts[2 * k] + n1, p = ((2 * n1 + 1) << 12) / (2 * n + 2);
 		e->prob[k] = (uint16_t)(p < 1 ? 1 : p > 4095 ? 4095 : p);
@@ -23366,7 +23366,7 @@ PVS__STATIC size_t pvs__encoder_model_size(const pvs__encoder *e) {
 
 /* Bases and model for identity order (reorder 0), greedy one (1: made, 2: as made before); *bytes: RECS + MODL. */
 PVS__STATIC pvs_result pvs__encoder_plan(pvs__encoder *e, uint32_t max_chain, int reorder, size_t *bytes,
-										 pvs_error *err) {
+		pvs_error *err) {
 	pvs_result r = PVS_OK;
 	e->order_bits = reorder ? pvs__bits_for(e->n - 1) : 0;
 	e->prow_of[0] = e->prow_of[1] = PVS_NO_CELL;
@@ -23380,7 +23380,7 @@ PVS__STATIC pvs_result pvs__encoder_plan(pvs__encoder *e, uint32_t max_chain, in
 
 /* pvs_file_encode's checks, each with its error; *max_chain: K; *vocc_size: VOCC section size (0: none). */
 PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_chain, size_t *vocc_size,
-										 pvs_error *err) {
+		pvs_error *err) {
 	pvs_result r;
 	uint32_t i;
 	if (!d || !d->cells || (!d->pvs && !d->pvs_row) || !d->cell_count || !d->object_count)
@@ -23397,9 +23397,9 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 	if (d->shard_count == 1 ||
 		(d->shard_count &&
 		 (d->shard_index >= d->shard_count || d->total_cell_count > 0x3fffffffu ||
-		  d->cell_count != (d->total_cell_count - d->shard_index + d->shard_count - 1) / d->shard_count)))
+			d->cell_count != (d->total_cell_count - d->shard_index + d->shard_count - 1) / d->shard_count)))
 		return PVS__BAD_ARG(err, "shard %u of %u does not hold %u of %u cells", d->shard_index, d->shard_count,
-							d->cell_count, d->total_cell_count);
+				d->cell_count, d->total_cell_count);
 	for (i = 0; i < d->cell_count; ++i) {
 		r = pvs__check_cell(d->cells + i, i, err);
 		if (r != PVS_OK) return r;
@@ -23478,7 +23478,7 @@ PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_by
 		table_bytes += (e->grid_bits[k] == 255u ? 4 : 2) * (size_t)n;
 	}
 	index_bits_total = (size_t)(e->index_bits[0] + e->index_bits[1] + e->index_bits[2] + e->index_bits[3] +
-								e->index_bits[4] + e->index_bits[5]) *
+			e->index_bits[4] + e->index_bits[5]) *
 		e->cells;
 	*cell_bytes = PVS__CELL_HEAD + table_bytes + (index_bits_total + 7) / 8;
 	return PVS_OK;
@@ -23605,7 +23605,7 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 		}
 		PVS__FOR3(k) {
 			pvs__put_bits(bits, pos, pvs__count_below(e->values[k], e->value_count[k], e->boxes[i].max[k], 0) - lo[k],
-						  e->index_bits[3 + k]);
+					e->index_bits[3 + k]);
 			pos += e->index_bits[3 + k];
 		}
 	}
@@ -23613,7 +23613,7 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 
 /* Header and section table for `total` bytes of written sections: section CRC-32s, then header's. */
 PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t flags, uint32_t sections,
-										   const uint32_t *tags, const size_t *at, const size_t *sz) {
+		const uint32_t *tags, const size_t *at, const size_t *sz) {
 	uint32_t k, crc;
 	memcpy(o, "PVS\x1a", 4);
 	pvs__put32(o + 4, PVS_FORMAT_VERSION);
@@ -23657,7 +23657,7 @@ PVS__STATIC void pvs__names_write(const pvs_file_desc *d, uint8_t *o) {
 }
 
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t capacity, size_t *out_size,
-								   pvs_error *err) {
+		pvs_error *err) {
 	pvs__encoder e;
 	pvs_result r;
 	uint32_t i, k, max_chain = 0, sections, keys = 0;
@@ -23744,7 +23744,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	}
 	if (capacity < total) {
 		r = PVS__FAIL(err, PVS_ERROR_BUFFER_TOO_SMALL, "need %llu bytes, have %llu", (unsigned long long)total,
-					  (unsigned long long)capacity);
+				(unsigned long long)capacity);
 		goto done;
 	}
 	memset(o, 0, total);
@@ -23789,8 +23789,8 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	if (names_size) pvs__names_write(d, o + at[k_name]);
 	if (d->vocc_counts)
 		pvs__vo_section_write(o + at[k_vocc], (d->vocc_flags & PVS_VOCC_ONLY) != 0,
-							  d->vocc_base, d->vocc_height_step, d->cell_count, d->vocc_counts, d->vocc_scales,
-							  d->virtual_occluders, d->vocc_stride);
+				d->vocc_base, d->vocc_height_step, d->cell_count, d->vocc_counts, d->vocc_scales,
+				d->virtual_occluders, d->vocc_stride);
 	pvs__encoder_write_header(o, total, d->flags, sections, tags, at, sz);
 	pvs__ok(err);
 done:
@@ -23841,7 +23841,7 @@ PVS__STATIC float pvs__cell_value(const pvs_file *f, uint32_t k, uint32_t i) {
 }
 
 PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const uint8_t *c, uint32_t size,
-									   pvs_error *err) {
+		pvs_error *err) {
 	uint64_t off = (uint64_t)(c - base), need = PVS__CELL_HEAD, nbits, pos = 0;
 	uint32_t k, i;
 	const uint8_t *v = c + PVS__CELL_HEAD;
@@ -23851,14 +23851,14 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 		uint32_t n = pvs__get32(c + 4 * k), g = pvs__get32(c + 24 + 8 * k), w = g & 255u;
 		if (n == 0 || n > 2 * (uint64_t)f->cell_count)
 			return PVS__BAD_SECTION(err, off + 4 * k,
-									"CELL: %u coordinates on axis %u for %u cells", n, k, f->cell_count);
+					"CELL: %u coordinates on axis %u for %u cells", n, k, f->cell_count);
 		if (c[12 + k] != pvs__bits_for(n - 1))
 			return PVS__BAD_SECTION(err, off + 12 + k,
-									"CELL: index width %u on axis %u, %u values need %u", c[12 + k], k, n,
-									pvs__bits_for(n - 1));
+					"CELL: index width %u on axis %u, %u values need %u", c[12 + k], k, n,
+					pvs__bits_for(n - 1));
 		if (c[15 + k] > pvs__bits_for(n - 1))
 			return PVS__BAD_SECTION(err, off + 15 + k,
-									"CELL: extent width %u on axis %u exceeds %u", c[15 + k], k, pvs__bits_for(n - 1));
+					"CELL: extent width %u on axis %u exceeds %u", c[15 + k], k, pvs__bits_for(n - 1));
 		if ((w != 16u && w != 255u) || (g >> 24) || (w == 255u && (g >> 8 || pvs__get32(c + 20 + 8 * k))))
 			return PVS__BAD_SECTION(err, off + 24 + 8 * k, "CELL: table %u has width %u", k, w);
 		f->private_.value_count[k] = n;
@@ -23879,7 +23879,7 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 	nbits = (uint64_t)f->private_.cell_bits * f->cell_count;
 	if (need + (nbits + 7) / 8 != size)
 		return PVS__BAD_SECTION(err, off, "CELL has %u bytes, its tables and indices need %llu",
-								size, (unsigned long long)(need + (nbits + 7) / 8));
+				size, (unsigned long long)(need + (nbits + 7) / 8));
 	v = c + need;
 	f->private_.indices = v;
 	f->private_.index_bytes = (size_t)((nbits + 7) / 8);
@@ -23891,7 +23891,7 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 			memcpy(&u, &x, 4);
 			if (!pvs__finite(x) || u == 0x80000000u || (i && !(pvs__cell_value(f, k, i - 1) < x)))
 				return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, (uint64_t)(f->private_.values[k] - base),
-								 "CELL: coordinate %u on axis %u is not finite, is -0 or does not ascend", i, k);
+						"CELL: coordinate %u on axis %u is not finite, is -0 or does not ascend", i, k);
 		}
 	}
 	for (i = 0; i < f->cell_count; ++i) {
@@ -23903,7 +23903,7 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 		PVS__FOR3(k)
 			if ((uint64_t)idx[k] + idx[k + 3] >= f->private_.value_count[k])
 				return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(v - base) + pos / 8,
-								 "cell %u: coordinate index %u + %u out of range on axis %u", i, idx[k], idx[k + 3], k);
+						"cell %u: coordinate index %u + %u out of range on axis %u", i, idx[k], idx[k + 3], k);
 	}
 	if ((nbits & 7u) && (v[nbits / 8] >> (nbits & 7u)))
 		return PVS__BAD_SECTION(err, (uint64_t)(v - base) + nbits / 8, "CELL: unused index bits are not zero");
@@ -23912,7 +23912,7 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 
 /* TREE, per manual. Splits and axes lie apart: level costs one dependent load. */
 PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size,
-									  pvs_error *err) {
+		pvs_error *err) {
 	uint64_t off = (uint64_t)(t - base), need;
 	uint32_t depth, inner, leaves, i, ow, items_size;
 	const uint8_t *nodes, *starts, *items;
@@ -23922,13 +23922,13 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 	ow = pvs__get32(t + 4);
 	if (depth > PVS__TREE_MAX_DEPTH || ow < 1 || ow > 32)
 		return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE depth %u > %u or offset width %u not 1..32", depth,
-						 PVS__TREE_MAX_DEPTH, ow);
+				PVS__TREE_MAX_DEPTH, ow);
 	leaves = 1u << depth;
 	inner = leaves - 1u;
 	need = PVS__TREE_HEAD + 5 * (uint64_t)inner + ((uint64_t)(leaves + 1) * ow + 7) / 8;
 	if (need > size)
 		return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE has %u bytes, depth %u needs %llu before its items",
-						 size, depth, (unsigned long long)need);
+				size, depth, (unsigned long long)need);
 	nodes = t + PVS__TREE_HEAD;
 	starts = nodes + 5 * (size_t)inner;
 	items = t + need;
@@ -23937,12 +23937,12 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 		uint8_t axis = nodes[4 * (size_t)inner + i];
 		if (axis > 2u || !pvs__finite(pvs__getf32(nodes + 4 * (size_t)i)))
 			return pvs__fail(err, PVS_ERROR_BAD_TREE, i, off + PVS__TREE_HEAD + 4 * (uint64_t)i,
-							 "TREE node %u: axis %u or split not finite", i, axis);
+					"TREE node %u: axis %u or split not finite", i, axis);
 	}
 	if (pvs__get_bits(starts, 0, ow) != 0 || pvs__get_bits(starts, (uint64_t)leaves * ow, ow) != items_size ||
 		(((uint64_t)(leaves + 1) * ow & 7u) && starts[(uint64_t)(leaves + 1) * ow / 8] >> ((leaves + 1) * ow & 7u)))
 		return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(starts - base),
-						 "TREE leaf offsets do not span its items (or unused bits are set)");
+				"TREE leaf offsets do not span its items (or unused bits are set)");
 	for (i = 0; i < leaves; ++i) {
 		uint32_t lo = pvs__get_bits(starts, (uint64_t)i * ow, ow);
 		uint32_t hi = pvs__get_bits(starts, (uint64_t)(i + 1) * ow, ow);
@@ -23951,7 +23951,7 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 		int first = 1;
 		if (hi < lo || hi > items_size)
 			return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(starts - base) + (uint64_t)i * ow / 8,
-							 "TREE leaf %u offsets do not ascend", i);
+					"TREE leaf %u offsets do not ascend", i);
 		while (p < end) {
 			uint32_t g;
 			size_t used = pvs__get_varint(p, end, &g);
@@ -23961,7 +23961,7 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 			first = 0;
 			if (id >= f->cell_count)
 				return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(p - base), "TREE leaf %u names cell %llu of %u",
-								 i, (unsigned long long)id, f->cell_count);
+						i, (unsigned long long)id, f->cell_count);
 			p += used;
 		}
 	}
@@ -23974,7 +23974,7 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 /* RECS: each record's structure, then chains: from every cell <= max_chain bases reach key, so none cycles and decoding
    applies <= max_chain deltas. Linear in section (n K record look-ups). */
 PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size,
-										 pvs_error *err) {
+		pvs_error *err) {
 	uint64_t off = (uint64_t)(rs - base);
 	uint32_t blocks = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK, b, keys = 0, i;
 	if ((uint64_t)4 * (blocks + 1) > size)
@@ -23983,7 +23983,7 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 		return pvs__fail(err, PVS_ERROR_BAD_RECORD, 0, off, "block 0 does not start after the offset table");
 	if (pvs__get32(rs + 4 * (size_t)blocks) != size)
 		return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, off + 4 * (uint64_t)blocks,
-						 "the last block offset is not the section size");
+				"the last block offset is not the section size");
 	for (b = 0; b < blocks; ++b) {
 		uint32_t lo = pvs__get32(rs + 4 * (size_t)b), hi = pvs__get32(rs + 4 * (size_t)b + 4), cell;
 		const uint8_t *p = rs + lo, *end = rs + hi;
@@ -23996,23 +23996,23 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 			size_t used = pvs__get_varint(p, end, &len);
 			if (!used || len > (size_t)(end - p) - used)
 				return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad length",
-								 cell);
+						cell);
 			p += used;
 			rend = p + len;
 			used = pvs__get_varint(p, rend, &zz);
 			if (!used)
 				return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad base",
-								 cell);
+						cell);
 			bc = (int64_t)cell - pvs__unzigzag(zz);
 			keys += !zz;
 			if (zz && (bc < 0 || bc >= (int64_t)f->cell_count))
 				return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base), "cell %u: base %lld is no cell",
-								 cell, (long long)bc);
+						cell, (long long)bc);
 			p = rend;
 		}
 		if (p != end)
 			return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, (uint64_t)(p - base),
-							 "block %u has bytes after its last record", b);
+					"block %u has bytes after its last record", b);
 	}
 	if (keys != f->key_count)
 		return PVS__FAIL(err, PVS_ERROR_BAD_HEADER, "META says %u key cells, the records have %u", f->key_count, keys);
@@ -24022,7 +24022,7 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 		for (k = 0; k <= f->max_chain && c != PVS_NO_CELL; ++k, c = r.base) pvs__record_at(f, c, &r);
 		if (c != PVS_NO_CELL)
 			return pvs__fail(err, PVS_ERROR_BAD_CHAIN, i, (uint64_t)(r.start - base),
-							 "cell %u: no key cell within %u bases", i, f->max_chain);
+					"cell %u: no key cell within %u bases", i, f->max_chain);
 	}
 	return PVS_OK;
 }
@@ -24030,7 +24030,7 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 /* MODL: context count, order width (0 or bits for object_count - 1), probabilities 1..4095, order's ids < object count;
    unused bits 0. Repeated id only garbles PVSs, as any payload can. */
 PVS__STATIC pvs_result pvs__open_model(pvs_file *f, const uint8_t *base, const uint8_t *m, uint32_t size,
-									   pvs_error *err) {
+		pvs_error *err) {
 	uint64_t off = (uint64_t)(m - base), nbits;
 	uint32_t w, k;
 	if (size < PVS__MODL_HEAD || pvs__get32(m) != PVS__CTX_COUNT)
@@ -24041,7 +24041,7 @@ PVS__STATIC pvs_result pvs__open_model(pvs_file *f, const uint8_t *base, const u
 	nbits = (uint64_t)f->object_count * w;
 	if (size != PVS__MODL_HEAD + (nbits + 7) / 8)
 		return PVS__BAD_SECTION(err, off, "MODL: %u bytes, not %llu", size,
-								(unsigned long long)(PVS__MODL_HEAD + (nbits + 7) / 8));
+				(unsigned long long)(PVS__MODL_HEAD + (nbits + 7) / 8));
 	for (k = 0; k < PVS__CTX_COUNT; ++k) {
 		uint32_t p = m[8 + 2 * k] | (uint32_t)m[9 + 2 * k] << 8;
 		if (p < 1 || p > 4095)
@@ -24054,8 +24054,8 @@ PVS__STATIC pvs_result pvs__open_model(pvs_file *f, const uint8_t *base, const u
 	for (k = 0; w && k < f->object_count; ++k)
 		if (pvs__get_bits(f->private_.order, (uint64_t)k * w, w) >= f->object_count)
 			return pvs__fail(err, PVS_ERROR_OBJECT_OUT_OF_RANGE, (int64_t)k, off + PVS__MODL_HEAD + k * (uint64_t)w / 8,
-							 "MODL: order %u names object %u of %u", k,
-							 pvs__get_bits(f->private_.order, (uint64_t)k * w, w), f->object_count);
+					"MODL: order %u names object %u of %u", k,
+					pvs__get_bits(f->private_.order, (uint64_t)k * w, w), f->object_count);
 	if ((nbits & 7u) && (m[size - 1] >> (nbits & 7u)))
 		return PVS__BAD_SECTION(err, off + size - 1, "MODL: bits after the order");
 	return PVS_OK;
@@ -24074,20 +24074,20 @@ PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t 
 		return pvs__fail(err, size < 4 ? PVS_ERROR_TRUNCATED : PVS_ERROR_BAD_MAGIC, -1, 0, "not a .pvs file (magic)");
 	if (size < PVS__HEADER_SIZE)
 		return pvs__fail(err, PVS_ERROR_TRUNCATED, -1, size, "the header needs 32 bytes, have %llu",
-						 (unsigned long long)size);
+				(unsigned long long)size);
 	if (pvs__get32(p + 4) != PVS_FORMAT_VERSION)
 		return pvs__fail(err, PVS_ERROR_BAD_VERSION, -1, 4, "format version %u, this reader knows %d%s",
-						 pvs__get32(p + 4), PVS_FORMAT_VERSION,
-						 pvs__get32(p + 4) - 1u < PVS_FORMAT_VERSION - 1u ? ": re-bake the file" : "");
+				pvs__get32(p + 4), PVS_FORMAT_VERSION,
+				pvs__get32(p + 4) - 1u < PVS_FORMAT_VERSION - 1u ? ": re-bake the file" : "");
 	if (pvs__get32(p + 8) != size) {
 		pvs_result code = pvs__get32(p + 8) > size ? PVS_ERROR_TRUNCATED : PVS_ERROR_BAD_HEADER;
 		return pvs__fail(err, code, -1, 8, "the header says %u bytes, the buffer has %llu", pvs__get32(p + 8),
-						 (unsigned long long)size);
+				(unsigned long long)size);
 	}
 	count = pvs__get32(p + 12);
 	if (count == 0 || count > PVS__MAX_SECTIONS)
 		return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 12, "section count %u is not in 1..%u", count,
-						 PVS__MAX_SECTIONS);
+				PVS__MAX_SECTIONS);
 	if (PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY > size)
 		return pvs__fail(err, PVS_ERROR_TRUNCATED, -1, PVS__HEADER_SIZE, "the section table runs past the end");
 	crc = pvs__crc32(0, p, 20);
@@ -24101,7 +24101,7 @@ PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t 
 
 /* Section table, rules as in manual; known tags into *sec. */
 PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t count, pvs__open_sections *sec,
-									   pvs_error *err) {
+		pvs_error *err) {
 	uint32_t i, j;
 	for (i = 0; i < count; ++i) {
 		const uint8_t *e = p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i;
@@ -24109,10 +24109,10 @@ PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t c
 		uint64_t at = PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (uint64_t)i;
 		if ((off & 7u) || off < PVS__HEADER_SIZE + count * PVS__SECTION_ENTRY)
 			return pvs__fail(err, PVS_ERROR_BAD_SECTION, i, at,
-							 "section %u: offset %u is misaligned or inside the header", i, off);
+					"section %u: offset %u is misaligned or inside the header", i, off);
 		if ((uint64_t)off + sz > size)
 			return pvs__fail(err, PVS_ERROR_TRUNCATED, i, at, "section %u: bytes %u..%llu run past the end", i, off,
-							 (unsigned long long)off + sz);
+					(unsigned long long)off + sz);
 		for (j = 0; j < i; ++j) {
 			const uint8_t *e2 = p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)j;
 			uint32_t off2 = pvs__get32(e2 + 4), sz2 = pvs__get32(e2 + 8);
@@ -24161,7 +24161,7 @@ PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t
 
 /* META (32 bytes) into f, checked in format table's order. */
 PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8_t *meta, uint32_t meta_size,
-									  pvs_error *err) {
+		pvs_error *err) {
 	uint64_t mo = (uint64_t)(meta - p);
 	if (meta_size != PVS__META_SIZE)
 		return PVS__BAD_SECTION(err, mo, "META has %u bytes, not 32", meta_size);
@@ -24186,7 +24186,7 @@ PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8
 		return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 16, "up axis %u", f->up_axis);
 	if (f->max_chain == 0 || f->max_chain > PVS_MAX_CHAIN)
 		return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 20, "chain bound %u is not in 1..%u", f->max_chain,
-						 PVS_MAX_CHAIN);
+				PVS_MAX_CHAIN);
 	if (f->key_count == 0 || f->key_count > f->cell_count)
 		return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 24, "%u key cells of %u", f->key_count, f->cell_count);
 	if (pvs__get32(meta + 28))
@@ -24196,7 +24196,7 @@ PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8
 
 /* SHRD (16 bytes) into f: part of cell_count cells of sharded bake. */
 PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint8_t *shrd, uint32_t shrd_size,
-									   pvs_error *err) {
+		pvs_error *err) {
 	uint64_t so = (uint64_t)(shrd - p);
 	if (shrd_size != PVS__SHRD_SIZE)
 		return PVS__BAD_SECTION(err, so, "SHRD has %u bytes, not 16", shrd_size);
@@ -24207,13 +24207,13 @@ PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint
 		pvs__get32(shrd + 12) ||
 		f->cell_count != (f->total_cell_count - f->shard_index + f->shard_count - 1) / f->shard_count)
 		return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, so, "SHRD: shard %u of %u cannot hold %u of %u cells",
-						 f->shard_index, f->shard_count, f->cell_count, f->total_cell_count);
+				f->shard_index, f->shard_count, f->cell_count, f->total_cell_count);
 	return PVS_OK;
 }
 
 /* NAME (FILE FORMAT): object_count ascending end offsets, each name's last byte its only zero. Linear time. */
 PVS__STATIC pvs_result pvs__open_names(pvs_file *f, const uint8_t *p, const uint8_t *sec, uint32_t size,
-									   pvs_error *err) {
+		pvs_error *err) {
 	uint64_t at = (uint64_t)(sec - p), head = 4 + 4 * (uint64_t)f->object_count;
 	uint32_t i, j, prev = 0;
 	if (size < head || pvs__get32(sec) != f->object_count)
@@ -24223,11 +24223,11 @@ PVS__STATIC pvs_result pvs__open_names(pvs_file *f, const uint8_t *p, const uint
 		const uint8_t *text = sec + head;
 		if (end <= prev || end > size - head)
 			return pvs__fail(err, PVS_ERROR_BAD_SECTION, i, at + 4 + 4 * (uint64_t)i, "NAME: name %u ends at %u", i,
-							 end);
+					end);
 		for (j = prev; j + 1 < end && text[j]; ++j) {}
 		if (j + 1 != end || text[j])
 			return pvs__fail(err, PVS_ERROR_BAD_SECTION, i, at + head + j, "NAME: name %u is not one zero-ended string",
-							 i);
+					i);
 		prev = end;
 	}
 	if (prev != size - head)
@@ -24254,7 +24254,7 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 	nol = pvs__get32(p + 16) & PVS_FILE_NO_LOOKUP;
 	if (!sec.meta || (!sec.cells && !nol) || (!sec.tree && !nol) || !sec.recs || !sec.modl)
 		return PVS__FAIL(err, PVS_ERROR_BAD_SECTION, "missing required section %s",
-						 !sec.meta ? "META" : !sec.recs ? "RECS" : !sec.modl ? "MODL" : !sec.cells ? "CELL" : "TREE");
+				!sec.meta ? "META" : !sec.recs ? "RECS" : !sec.modl ? "MODL" : !sec.cells ? "CELL" : "TREE");
 	if (nol && (sec.cells || sec.tree || sec.vocc))
 		return PVS__FAIL(err, PVS_ERROR_BAD_SECTION, "no look-up (flag 2), yet a CELL, TREE or VOCC section");
 	r = pvs__open_meta(f, p, sec.meta, sec.meta_size, err);
@@ -24468,28 +24468,28 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
 }
 
 PVS_API pvs_result pvs_file_decode(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t word_count,
-								   pvs_error *err) {
+		pvs_error *err) {
 	if (!f || !bits || !f->data)
 		return PVS__BAD_ARG(err, "file and bits must not be NULL");
 	if (cell >= f->cell_count)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
 	if (word_count < PVS_BITSET_WORDS(f->object_count))
 		return PVS__FAIL(err, PVS_ERROR_BUFFER_TOO_SMALL, "%llu words, %u objects need %llu",
-						 (unsigned long long)word_count, f->object_count,
-						 (unsigned long long)PVS_BITSET_WORDS(f->object_count));
+				(unsigned long long)word_count, f->object_count,
+				(unsigned long long)PVS_BITSET_WORDS(f->object_count));
 	pvs__file_decode(f, cell, bits, word_count);
 	pvs__ok(err);
 	return PVS_OK;
 }
 
 PVS_API pvs_result pvs_cursor_init(pvs_cursor *c, const pvs_file *f, pvs_word *bits, pvs_word *scratch,
-								   size_t word_count, pvs_error *err) {
+		size_t word_count, pvs_error *err) {
 	if (!c || !f || !f->data || !bits || !scratch || bits == scratch)
 		return PVS__BAD_ARG(err, "cursor, file, bits and scratch must be given, bits != scratch");
 	if (word_count < PVS_BITSET_WORDS(f->object_count))
 		return PVS__FAIL(err, PVS_ERROR_BUFFER_TOO_SMALL, "%llu words, %u objects need %llu",
-						 (unsigned long long)word_count, f->object_count,
-						 (unsigned long long)PVS_BITSET_WORDS(f->object_count));
+				(unsigned long long)word_count, f->object_count,
+				(unsigned long long)PVS_BITSET_WORDS(f->object_count));
 	PVS__ZERO(*c);
 	c->file = f;
 	c->cell = PVS_NO_CELL;
