@@ -1,4 +1,4 @@
-/* pvs.h - v0.13.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.14.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -128,7 +128,7 @@
    box and a bitset per leaf, kept); pvs_file_encode (~500 bytes per cell plus a bitset); pvs_raster_create
    (depth map, pyramid, cull map, bins); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and
    object). Allocate nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_raster_draw,
-   pvs_raster_bin, _draw_band, pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
+   pvs_raster_bin, _*_band, pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
 
    PERFORMANCE
    ===========
@@ -154,7 +154,7 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 13
+#define PVS_VERSION_MINOR 14
 #define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
@@ -545,10 +545,10 @@ typedef struct pvs_raster_draw_desc {
 PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_desc *draw);
 /* Threads (binning as Masked Occlusion Culling's, Hasselgren, Andersson and Akenine-Moller 2016 §4): a frame's
    occluder draws prefiltered in PVS_RASTER_PARTS parts, then drawn in as many row bands, each on any thread:
-	   pvs_raster_clear(r);
-	   for p < PVS_RASTER_PARTS: pvs_raster_bin(r, draws, n, p);
+	   for b < PVS_RASTER_PARTS: pvs_raster_clear_band(r, b);  // or pvs_raster_clear(r)
+	   for p < PVS_RASTER_PARTS: pvs_raster_bin(r, draws, n, p);  // after every band cleared
 	   for b < PVS_RASTER_PARTS: pvs_raster_draw_band(r, draws, n, b);  // after every bin
-	   pvs_raster_build_pyramid(r);  // then box tests on any threads
+	   for b <= PVS_RASTER_PARTS: pvs_raster_pyramid_band(r, b);  // last after all; then box tests, any threads
    Map: pvs_raster_draw's for draws in order, byte for byte. Keep draws, their arrays, matrix until bands drawn. Bins
    and bands may come in rounds (each round's bins after every band of the one before): a round's bins drop triangles
    that earlier rounds' maps hide, so a first round of the nearest occluders (say 1,000) saves later rounds' bands most
@@ -561,6 +561,11 @@ PVS_API pvs_result pvs_raster_bin(pvs_raster *raster, const pvs_raster_draw_desc
 /* Draws band `band` of every part's bins. */
 PVS_API void pvs_raster_draw_band(pvs_raster *raster, const pvs_raster_draw_desc *draws, uint32_t draw_count,
 		uint32_t band);
+/* pvs_raster_clear's work for band `band`: every band before any other call, then as after pvs_raster_clear. */
+PVS_API void pvs_raster_clear_band(pvs_raster *raster, uint32_t band);
+/* pvs_raster_build_pyramid's work for band `band` < PVS_RASTER_PARTS; band PVS_RASTER_PARTS, after the others, ends
+   it (makes bands left out; untiled or with occludees: all of it): the same pyramid. */
+PVS_API void pvs_raster_pyramid_band(pvs_raster *raster, uint32_t band);
 /* Depth map, width * height floats from row 0, valid until next raster call. */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
 
@@ -3635,6 +3640,7 @@ struct pvs_raster {
 	float *bmin; /* per block of 8 x 8 tiles: <= min base z0 */
 	uint8_t *bdirty; /* 1: base grew since bmin */
 	int banded; /* band 0 drawn since clear: bins test blocks (band 0's thread alone writes it) */
+	uint8_t pband[PVS_RASTER_PARTS]; /* 1: pvs_raster_pyramid_band made band b since the top */
 	uint32_t bw, bh; /* block grid */
 	uint32_t tlevels; /* tile pyramid levels above tile grid */
 	uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
@@ -5498,22 +5504,28 @@ PVS_API const char *pvs_raster_path(const pvs_raster *r) {
 #endif
 }
 
-PVS_API void pvs_raster_clear(pvs_raster *r) {
-	size_t i, n = r->tiled ? (size_t)r->tw * r->th : 0;
-	for (i = 0; i < n; ++i) {
+PVS_API void pvs_raster_clear_band(pvs_raster *r, uint32_t band) {
+	size_t i, e;
+	if (!r || band >= PVS_RASTER_PARTS) return;
+	if (!band) r->banded = r->mixed = r->pyramid_valid = 0; /* band 0's thread alone writes these */
+	if (r->qcount) r->qcount[band] = r->qcount[PVS_RASTER_PARTS + band] = 0;
+	if (!r->tiled) return;
+	i = (size_t)PVS__QBAND(r, band), e = (size_t)PVS__QBAND(r, band + 1);
+	for (e = (e < r->th ? e : r->th) * r->tw, i *= r->tw; i < e; ++i) {
 		pvs__tile *t = r->tile + i;
 		t->mask[0] = t->mask[1] = t->mask[2] = t->mask[3] = 0;
 		t->z0 = t->z1 = PVS_DEPTH_EMPTY;
 	}
-	n = r->tiled ? (size_t)r->bw * r->bh : 0;
-	for (i = 0; i < n; ++i) {
+	e = ((size_t)PVS__QBAND(r, band + 1) >> PVS__BLOCK_SHIFT) * r->bw;
+	for (i = ((size_t)PVS__QBAND(r, band) >> PVS__BLOCK_SHIFT) * r->bw; i < e; ++i) {
 		r->bmin[i] = PVS_DEPTH_EMPTY;
 		r->bdirty[i] = 0;
 	}
-	r->banded = 0;
-	r->mixed = 0;
-	r->pyramid_valid = 0;
-	if (r->qcount) memset(r->qcount, 0, 2 * PVS_RASTER_PARTS * sizeof(uint32_t));
+}
+
+PVS_API void pvs_raster_clear(pvs_raster *r) {
+	uint32_t b;
+	for (b = 0; b < PVS_RASTER_PARTS; ++b) pvs_raster_clear_band(r, b);
 }
 
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, uint32_t vertex_count,
@@ -5664,26 +5676,44 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 	}
 }
 
-/* Tile pyramid: level 0: each tile's base, nearest value; levels above merge 1 x 2, 2 x 1 or 2 x 2 texels (~square in
-   pixels). */
-PVS__STATIC void pvs__tile_pyramid(pvs_raster *r) {
-	uint32_t l, n = r->tw * r->th, i;
+/* Tile pyramid in bands: band b < PVS_RASTER_PARTS makes, over its rows, level 0 (each tile's base, nearest value) and
+   the levels that halve rows at most 3 times (a band is whole 8-row blocks); band PVS_RASTER_PARTS the rest. Levels
+   merge 1 x 2, 2 x 1 or 2 x 2 texels (~square in pixels). */
+PVS__STATIC void pvs__tile_pyramid_band(pvs_raster *r, uint32_t band) {
+	uint32_t l, y0, y1, top = band == PVS_RASTER_PARTS, i;
 	float *lo = r->tlmin[0], *hi = r->tlmax[0];
-	for (i = 0; i < n; ++i) {
+	for (i = 0; top && i < PVS_RASTER_PARTS; r->pband[i++] = 0) /* a band left out: made here (misuse, still right) */
+		if (!r->pband[i]) pvs__tile_pyramid_band(r, i);
+	if (!top) r->pband[band] = 1; /* its thread alone writes this byte */
+	y0 = top ? 0 : (uint32_t)PVS__QBAND(r, band), y1 = top ? 0 : (uint32_t)PVS__QBAND(r, band + 1);
+	for (i = y0 * r->tw, y1 = (y1 < r->th ? y1 : r->th) * r->tw; i < y1; ++i) {
 		const pvs__tile *t = r->tile + i;
 		lo[i] = t->z0;
 		hi[i] = (t->mask[0] | t->mask[1] | t->mask[2] | t->mask[3]) ? t->z1 : t->z0;
 	}
-	for (l = 1; l <= r->tlevels; ++l)
-		pvs__pyramid_level(r->tlmin[l - 1], r->tlmax[l - 1], r->tlw[l - 1], r->tlh[l - 1], r->tlmin[l], r->tlmax[l],
-				r->tlw[l], r->tlh[l], r->tsx[l] != r->tsx[l - 1], r->tsy[l] != r->tsy[l - 1], 0);
-	r->pyramid_valid = 2;
+	for (l = 1; l <= r->tlevels; ++l) {
+		uint32_t s = r->tsy[l], my = s != r->tsy[l - 1], pw = r->tlw[l - 1], w = r->tlw[l];
+		if ((s > 3) != top) continue;
+		y0 = top ? 0 : (uint32_t)PVS__QBAND(r, band) >> s;
+		y1 = top ? r->tlh[l] : (uint32_t)PVS__QBAND(r, band + 1) >> s;
+		if ((y1 = y1 < r->tlh[l] ? y1 : r->tlh[l]) > y0)
+			pvs__pyramid_level(r->tlmin[l - 1] + (size_t)(y0 << my) * pw, r->tlmax[l - 1] + (size_t)(y0 << my) * pw, pw,
+				r->tlh[l - 1] - (y0 << my), r->tlmin[l] + (size_t)y0 * w, r->tlmax[l] + (size_t)y0 * w, w, y1 - y0,
+				r->tsx[l] != r->tsx[l - 1], my, 0);
+	}
+	if (top) r->pyramid_valid = 2;
+}
+
+PVS_API void pvs_raster_pyramid_band(pvs_raster *r, uint32_t band) {
+	if (!r || band > PVS_RASTER_PARTS) return;
+	if (r->tiled && !r->mixed) pvs__tile_pyramid_band(r, band);
+	else if (band == PVS_RASTER_PARTS) pvs_raster_build_pyramid(r);
 }
 
 PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
 	uint32_t l;
 	if (r->tiled && !r->mixed) {
-		pvs__tile_pyramid(r);
+		for (l = 0; l <= PVS_RASTER_PARTS; ++l) pvs__tile_pyramid_band(r, l);
 		return;
 	}
 	pvs__tile_resolve(r);
@@ -24549,7 +24579,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.13.0 (2026-11-30) format: PVS_FILE_NO_LOOKUP, PVS_BAKE_NO_LOOKUP (no cell boxes, look-up: a third smaller).
+   0.14.0 (2026-11-30) raster: pvs_raster_clear_band, pvs_raster_pyramid_band (no step of a threaded frame serial).
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

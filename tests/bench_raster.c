@@ -3,9 +3,9 @@
    (PVS_RASTER_SSE2) in the same binary:
      raster_frame_ms_1080p  clear + 50,000 occluder triangles at 1920x1080 + pyramid + 10,000 box tests
                             (_avx2, _sse2, _neon: the same, the path by name; _backface: back faces culled)
-     raster_frame_ms_1080p_2threads  the same frame on two threads: pvs_raster_bin, pvs_raster_draw_band in two
-                            rounds (the 1,000 nearest triangles, then the rest), the box tests split (the map is
-                            checked against one thread's)
+     raster_frame_ms_1080p_2threads  the same frame on two threads: pvs_raster_clear_band, then pvs_raster_bin and
+                            pvs_raster_draw_band in two rounds (the 1,000 nearest triangles, then the rest),
+                            pvs_raster_pyramid_band, the box tests split (the map is checked against one thread's)
      raster_mesh_frame_ms_1080p  the same with the triangles drawn as one occluder mesh (pvs_raster_mesh:
                             welded by position, no cracks along shared edges)
      raster_tris_per_ms     the rasterization part alone
@@ -45,13 +45,15 @@ typedef struct frame2 {
     const pvs_raster_draw_desc *d;
     const pvs_box *boxes;
     uint32_t n_box, vis[2], next; /* next: the phase's next part, band or box block (taken by either thread) */
-    int phase, go, done; /* go, done: generation counters */
+    int phase, go, done; /* phase: 0 bin, 1 draw, 2 boxes, 3 clear, 4 pyramid; go, done: generation counters */
 } frame2;
 static void frame2_run(frame2 *f, uint32_t w) {
     uint32_t i, k, v = 0, blocks = f->phase == 2 ? 32u : PVS_RASTER_PARTS;
     while ((k = __atomic_fetch_add(&f->next, 1u, __ATOMIC_RELAXED)) < blocks) {
         if (f->phase == 0) pvs_raster_bin(f->r, f->d, 1, k);
         else if (f->phase == 1) pvs_raster_draw_band(f->r, f->d, 1, k);
+        else if (f->phase == 3) pvs_raster_clear_band(f->r, k);
+        else if (f->phase == 4) pvs_raster_pyramid_band(f->r, k);
         else
             for (i = f->n_box * k / blocks; i < f->n_box * (k + 1) / blocks; ++i)
                 v += (uint32_t)pvs_raster_test_box(f->r, f->boxes + i);
@@ -211,15 +213,16 @@ int main(int argc, char **argv) {
             pthread_create(&th, NULL, frame2_worker, &f);
             for (rep = 0; rep < 400; ++rep) { /* alternating blocks of ten frames (the VM changes speed for seconds) */
                 double t0 = now_ms();
-                if (rep / 10 % 2 == 0) { /* two rounds: the 1,000 nearest triangles, then the rest */
-                    pvs_raster_clear(q);
+                if (rep / 10 % 2 == 0) { /* cleared in bands; two rounds: the 1,000 nearest triangles, then the rest */
+                    frame2_phase(&f, 3);
                     f.d = &d1;
                     frame2_phase(&f, 0);
                     frame2_phase(&f, 1);
                     f.d = &d2;
                     frame2_phase(&f, 0);
                     frame2_phase(&f, 1);
-                    pvs_raster_build_pyramid(q);
+                    frame2_phase(&f, 4); /* the pyramid in bands, then its top */
+                    pvs_raster_pyramid_band(q, PVS_RASTER_PARTS);
                     frame2_phase(&f, 2);
                 } else {
                     pvs_raster_clear(r);

@@ -1356,14 +1356,19 @@ static void test_noalloc_and_errors(void) {
             CHECK(pvs_raster_draw(rt, &d) == PVS_OK);
             d.flags = PVS_DRAW_CULL_CCW;
             CHECK(pvs_raster_draw(r, &d) == PVS_OK);
-            { /* threads' calls: bins, bands */
+            { /* threads' calls: bins, bands (clears, draws, pyramids; on the untiled raster too) */
                 pvs_raster_draw_desc two[2];
                 uint32_t p;
-                pvs_raster_clear(rt);
+                for (p = 0; p < PVS_RASTER_PARTS; ++p) pvs_raster_clear_band(rt, p), pvs_raster_clear_band(r, p);
                 d.flags = PVS_DRAW_CULL_CW;
                 two[0] = two[1] = d;
                 for (p = 0; p < PVS_RASTER_PARTS; ++p) CHECK(pvs_raster_bin(rt, two, 2, p) == PVS_OK);
                 for (p = 0; p < PVS_RASTER_PARTS; ++p) pvs_raster_draw_band(rt, two, 2, p);
+                CHECK(pvs_raster_draw(r, two) == PVS_OK);
+                for (p = 0; p <= PVS_RASTER_PARTS; ++p) pvs_raster_pyramid_band(rt, p), pvs_raster_pyramid_band(r, p);
+                CHECK(pvs_raster_test_rect(rt, 0, 0, 10, 10, 0.5f) >= 0 && pvs_raster_test_rect(r, 0, 0, 10, 10, 0.5f) >= 0);
+                pvs_raster_clear_band(NULL, 0), pvs_raster_clear_band(rt, PVS_RASTER_PARTS); /* nothing, no crash */
+                pvs_raster_pyramid_band(NULL, 0), pvs_raster_pyramid_band(rt, PVS_RASTER_PARTS + 1);
                 two[1].triangle_count = 3;
                 CHECK(pvs_raster_bin(rt, two, 2, 0) == PVS_ERROR_BUFFER_TOO_SMALL);
             }
@@ -1659,21 +1664,42 @@ static void test_cull_units(void) {
     tscene_free(&b);
 }
 
-/* Threads (pvs_raster_bin, pvs_raster_draw_band): several draws (strided, indexed, culled, with triangles across the
-   near plane) binned and drawn in bands in shuffled orders and on two threads give the map pvs_raster_draw gives,
-   byte for byte, on SIMD and scalar rasters; bad draws are refused. */
-typedef struct band_job { pvs_raster *r; const pvs_raster_draw_desc *d; uint32_t first, ok; } band_job;
-static void *band_thread(void *arg) {
+/* Threads (pvs_raster_clear_band, _bin, _draw_band, _pyramid_band): several draws (strided, indexed, culled, with
+   triangles across the near plane) over the last frame's map, cleared, binned, drawn and reduced to the pyramid in
+   bands in shuffled orders and on two threads, give the map pvs_raster_draw gives, byte for byte, and the pyramid
+   pvs_raster_build_pyramid gives (the same answers to rectangle tests), on SIMD and scalar rasters; bad draws are
+   refused. */
+typedef struct band_job { pvs_raster *r; const pvs_raster_draw_desc *d; uint32_t first, ok, phase; } band_job;
+static void *band_thread(void *arg) { /* phase 0: clear, 1: bin, 2: draw, 3: pyramid */
     band_job *j = (band_job *)arg;
     uint32_t p;
-    for (p = j->first; p < PVS_RASTER_PARTS; p += 2) j->ok &= pvs_raster_bin(j->r, j->d, 3, p) == PVS_OK;
+    for (p = j->first; p < PVS_RASTER_PARTS; p += 2)
+        if (j->phase == 0) pvs_raster_clear_band(j->r, p);
+        else if (j->phase == 1) j->ok &= pvs_raster_bin(j->r, j->d, 3, p) == PVS_OK;
+        else if (j->phase == 2) pvs_raster_draw_band(j->r, j->d, 3, p);
+        else pvs_raster_pyramid_band(j->r, p);
     return NULL;
 }
-static void *band_draw_thread(void *arg) {
-    band_job *j = (band_job *)arg;
-    uint32_t p;
-    for (p = j->first; p < PVS_RASTER_PARTS; p += 2) pvs_raster_draw_band(j->r, j->d, 3, p);
-    return NULL;
+static void band_phase(band_job *jb, uint32_t phase) {
+    pthread_t th[2];
+    uint32_t k;
+    for (k = 0; k < 2; ++k) jb[k].phase = phase, pthread_create(th + k, NULL, band_thread, jb + k);
+    for (k = 0; k < 2; ++k) pthread_join(th[k], NULL);
+}
+/* The pyramid's answers to rectangles over the map, at depths from it, are brute force's over the map. */
+static int pyramid_right(pvs_raster *r, uint32_t w, uint32_t h) {
+    const float *dm = pvs_raster_depth(r, NULL, NULL);
+    int same = 1, k;
+    for (k = 0; k < 2000; ++k) { /* sides of 1 to 128 pixels, whole texels of the levels or not */
+        int32_t sx = 1 << k % 8, sy = 1 << (k / 8) % 8, al = k % 3 != 0, x, y, seen = 0;
+        int32_t x0 = ((int32_t)(rnd() * (w + 4)) - 2) & (al ? -sx : -1), y0 = ((int32_t)(rnd() * (h + 4)) - 2) & (al ? -sy : -1);
+        float z = dm[(uint32_t)(rnd() * w) % w + (uint32_t)(rnd() * h) % h * w] * (k % 2 ? 1.0f : 0.999f);
+        int32_t x1 = x0 + sx - al, y1 = y0 + sy - al;
+        for (y = y0 > 0 ? y0 : 0; y <= y1 && y < (int32_t)h; ++y)
+            for (x = x0 > 0 ? x0 : 0; x <= x1 && x < (int32_t)w; ++x) seen |= dm[(uint32_t)y * w + (uint32_t)x] <= z;
+        same &= pvs_raster_test_rect(r, x0, y0, x1, y1, z) == seen;
+    }
+    return same;
 }
 static void test_threads(void) {
     enum { N = 400 };
@@ -1692,7 +1718,6 @@ static void test_threads(void) {
         rd.bin_triangles = 3 * N;
         CHECK(pvs_raster_create(&rd, &r, NULL) == PVS_OK);
         for (rep = 0; rep < 8; ++rep) {
-            pthread_t th[2];
             band_job jb[2];
             random_matrix(m, (float)rd.width / rd.height, (int)rep % 3);
             for (k = 0; k < N; ++k) random_triangle(tris + 9 * k, (int)(k % 5) == 4 ? 2 : (int)(k % 5) == 3 ? 4 : 0);
@@ -1707,13 +1732,19 @@ static void test_threads(void) {
             d[1].triangle_count = N / 2 + rep; d[1].flags = rep & 1 ? PVS_DRAW_CULL_CW : PVS_DRAW_CULL_CCW;
             d[2].positions = tris + 9 * (rep % 7); d[2].vertex_count = 7 + rep; d[2].triangle_count = 3 + rep % 3;
             pvs_raster_set_matrix(r, m); pvs_raster_set_matrix(ref, m);
-            pvs_raster_clear(ref); pvs_raster_clear(r);
+            pvs_raster_clear(ref);
             for (k = 0; k < 3; ++k) CHECK(pvs_raster_draw(ref, d + k) == PVS_OK);
+            pvs_raster_build_pyramid(ref);
             for (k = 0; k < PVS_RASTER_PARTS; ++k) order[k] = k;
             for (k = PVS_RASTER_PARTS - 1; k > 0; --k) { /* shuffled */
                 uint32_t j = (uint32_t)(rnd() * (k + 1)) % (k + 1), t = order[k];
                 order[k] = order[j]; order[j] = t;
             }
+            for (k = 0; k < 2; ++k) jb[k].r = r, jb[k].d = d, jb[k].first = k, jb[k].ok = 1;
+            if (rep % 4 == 1) pvs_raster_clear(r);
+            else if (rep % 2) /* the last frame's map, cleared in bands */
+                for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_clear_band(r, order[k]);
+            else band_phase(jb, 0);
             if (rep % 4 == 3) { /* two rounds: the first draw, then the others (their bins drop what it hides) */
                 for (k = 0; k < PVS_RASTER_PARTS; ++k) CHECK(pvs_raster_bin(r, d, 1, order[k]) == PVS_OK);
                 for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_draw_band(r, d, 1, order[PVS_RASTER_PARTS - 1 - k]);
@@ -1723,19 +1754,25 @@ static void test_threads(void) {
                 for (k = 0; k < PVS_RASTER_PARTS; ++k) CHECK(pvs_raster_bin(r, d, 3, order[k]) == PVS_OK);
                 for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_draw_band(r, d, 3, order[PVS_RASTER_PARTS - 1 - k]);
             } else { /* two threads */
-                for (k = 0; k < 2; ++k) {
-                    jb[k].r = r; jb[k].d = d; jb[k].first = k; jb[k].ok = 1;
-                    pthread_create(th + k, NULL, band_thread, jb + k);
-                }
-                for (k = 0; k < 2; ++k) pthread_join(th[k], NULL);
+                band_phase(jb, 1);
                 CHECK(jb[0].ok && jb[1].ok);
-                for (k = 0; k < 2; ++k) pthread_create(th + k, NULL, band_draw_thread, jb + k);
-                for (k = 0; k < 2; ++k) pthread_join(th[k], NULL);
+                band_phase(jb, 2);
+            }
+            if (rep % 2) { /* the pyramid in bands, then its top */
+                for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_pyramid_band(r, order[k]);
+                pvs_raster_pyramid_band(r, PVS_RASTER_PARTS);
+            } else if (rep % 4) {
+                band_phase(jb, 3);
+                pvs_raster_pyramid_band(r, PVS_RASTER_PARTS);
+            } else if (rep == 4) { /* misuse: the top after half the bands makes the others (rep 0: test_rect builds it) */
+                for (k = 0; k < PVS_RASTER_PARTS / 2; ++k) pvs_raster_pyramid_band(r, order[k]);
+                pvs_raster_pyramid_band(r, PVS_RASTER_PARTS);
             }
             {
                 const float *dm = pvs_raster_depth(r, NULL, NULL);
                 same &= !memcmp(dm, pvs_raster_depth(ref, NULL, NULL), (size_t)rd.width * rd.height * sizeof(float));
                 for (k = 0; k < rd.width * rd.height; ++k) drew |= dm[k] != PVS_DEPTH_EMPTY;
+                same &= pyramid_right(r, rd.width, rd.height) && pyramid_right(ref, rd.width, rd.height);
             }
         }
         /* a bin that fails leaves its part empty: the bands then draw nothing of the earlier bins */
