@@ -564,7 +564,7 @@ PVS_API void pvs_raster_draw_band(pvs_raster *raster, const pvs_raster_draw_desc
 /* pvs_raster_clear's work for band `band`: every band before any other call, then as after pvs_raster_clear. */
 PVS_API void pvs_raster_clear_band(pvs_raster *raster, uint32_t band);
 /* pvs_raster_build_pyramid's work for band `band` < PVS_RASTER_PARTS; band PVS_RASTER_PARTS, after the others, ends
-   it (makes bands left out; untiled or with occludees: all of it): the same pyramid. */
+   it (makes bands left out, or cleared or drawn since; untiled or with occludees: all of it): the same pyramid. */
 PVS_API void pvs_raster_pyramid_band(pvs_raster *raster, uint32_t band);
 /* Depth map, width * height floats from row 0, valid until next raster call. */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
@@ -3640,7 +3640,7 @@ struct pvs_raster {
 	float *bmin; /* per block of 8 x 8 tiles: <= min base z0 */
 	uint8_t *bdirty; /* 1: base grew since bmin */
 	int banded; /* band 0 drawn since clear: bins test blocks (band 0's thread alone writes it) */
-	uint8_t pband[PVS_RASTER_PARTS]; /* 1: pvs_raster_pyramid_band made band b since the top */
+	uint8_t pband[PVS_RASTER_PARTS]; /* 1: pyramid_band made band b since its top, clear, draw (band b's thread) */
 	uint32_t bw, bh; /* block grid */
 	uint32_t tlevels; /* tile pyramid levels above tile grid */
 	uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
@@ -5509,6 +5509,7 @@ PVS_API void pvs_raster_clear_band(pvs_raster *r, uint32_t band) {
 	if (!r || band >= PVS_RASTER_PARTS) return;
 	if (!band) r->banded = r->mixed = r->pyramid_valid = 0; /* band 0's thread alone writes these */
 	if (r->qcount) r->qcount[band] = r->qcount[PVS_RASTER_PARTS + band] = 0;
+	r->pband[band] = 0;
 	if (!r->tiled) return;
 	i = (size_t)PVS__QBAND(r, band), e = (size_t)PVS__QBAND(r, band + 1);
 	for (e = (e < r->th ? e : r->th) * r->tw, i *= r->tw; i < e; ++i) {
@@ -5577,6 +5578,7 @@ PVS_API void pvs_raster_draw_band(pvs_raster *r, const pvs_raster_draw_desc *dra
 	uint32_t p, i, e, c[3], s;
 	uint64_t m;
 	if (!r || band >= PVS_RASTER_PARTS || !r->qtri) return;
+	r->pband[band] = 0;
 	y0 = PVS__QBAND(r, band) << PVS__TH_SHIFT, y1 = (PVS__QBAND(r, band + 1) << PVS__TH_SHIFT) - 1;
 	for (p = 0; p < PVS_RASTER_PARTS; ++p)
 		for (i = r->qcount[PVS_RASTER_PARTS + p], e = i + r->qcount[p]; i < e; i += 8) {
@@ -5613,6 +5615,7 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *r, const pvs_raster_draw_desc *d)
 	int cull = pvs__draw_cull(r, d);
 	if (cull == 2) return PVS_ERROR_INVALID_ARGUMENT;
 	f = d->flags;
+	memset(r->pband, 0, sizeof(r->pband));
 	r->vstride = PVS__STRIDE(d);
 	r->cull = cull;
 	if (f & PVS_DRAW_MESH) pvs__mesh(r, d->positions, d->vertex_count, d->indices, NULL, d->triangle_count);
@@ -5682,7 +5685,7 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 PVS__STATIC void pvs__tile_pyramid_band(pvs_raster *r, uint32_t band) {
 	uint32_t l, y0, y1, top = band == PVS_RASTER_PARTS, i;
 	float *lo = r->tlmin[0], *hi = r->tlmax[0];
-	for (i = 0; top && i < PVS_RASTER_PARTS; r->pband[i++] = 0) /* a band left out: made here (misuse, still right) */
+	for (i = 0; top && i < PVS_RASTER_PARTS; r->pband[i++] = 0) /* a band left out or stale: made here (misuse) */
 		if (!r->pband[i]) pvs__tile_pyramid_band(r, i);
 	if (!top) r->pband[band] = 1; /* its thread alone writes this byte */
 	y0 = top ? 0 : (uint32_t)PVS__QBAND(r, band), y1 = top ? 0 : (uint32_t)PVS__QBAND(r, band + 1);

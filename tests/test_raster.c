@@ -1666,9 +1666,8 @@ static void test_cull_units(void) {
 
 /* Threads (pvs_raster_clear_band, _bin, _draw_band, _pyramid_band): several draws (strided, indexed, culled, with
    triangles across the near plane) over the last frame's map, cleared, binned, drawn and reduced to the pyramid in
-   bands in shuffled orders and on two threads, give the map pvs_raster_draw gives, byte for byte, and the pyramid
-   pvs_raster_build_pyramid gives (the same answers to rectangle tests), on SIMD and scalar rasters; bad draws are
-   refused. */
+   bands in shuffled orders and on two threads, give the map pvs_raster_draw gives, byte for byte, and a pyramid whose
+   every rectangle test is brute force's over the map, on SIMD and scalar rasters; bad draws are refused. */
 typedef struct band_job { pvs_raster *r; const pvs_raster_draw_desc *d; uint32_t first, ok, phase; } band_job;
 static void *band_thread(void *arg) { /* phase 0: clear, 1: bin, 2: draw, 3: pyramid */
     band_job *j = (band_job *)arg;
@@ -1775,6 +1774,27 @@ static void test_threads(void) {
                 same &= pyramid_right(r, rd.width, rd.height) && pyramid_right(ref, rd.width, rd.height);
             }
         }
+        /* misuse, the pyramid still right: the bands' pyramid, then more drawn (directly, in bands after a clear or in
+           a second round) or only a clear, then the top alone: draws and clears forget the bands' pyramid */
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_pyramid_band(r, k);
+        CHECK(pvs_raster_draw(r, d + 1) == PVS_OK);
+        pvs_raster_pyramid_band(r, PVS_RASTER_PARTS);
+        same &= pyramid_right(r, rd.width, rd.height);
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_pyramid_band(r, k);
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_clear_band(r, k);
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) CHECK(pvs_raster_bin(r, d, 1, k) == PVS_OK);
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_draw_band(r, d, 1, k);
+        pvs_raster_pyramid_band(r, PVS_RASTER_PARTS);
+        same &= pyramid_right(r, rd.width, rd.height);
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_pyramid_band(r, k);
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) CHECK(pvs_raster_bin(r, d + 1, 1, k) == PVS_OK);
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_draw_band(r, d + 1, 1, k); /* a second round, no clear */
+        pvs_raster_pyramid_band(r, PVS_RASTER_PARTS);
+        same &= pyramid_right(r, rd.width, rd.height);
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_pyramid_band(r, k);
+        pvs_raster_clear(r); /* nothing drawn after */
+        pvs_raster_pyramid_band(r, PVS_RASTER_PARTS);
+        same &= pyramid_right(r, rd.width, rd.height);
         /* a bin that fails leaves its part empty: the bands then draw nothing of the earlier bins */
         pvs_raster_clear(r);
         for (k = 0; k < PVS_RASTER_PARTS; ++k) CHECK(pvs_raster_bin(r, d, 3, k) == PVS_OK);
