@@ -24,7 +24,7 @@ TEST_SRC := tests/test_extproj.c tests/test_noalloc.c tests/main.c tests/test_co
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c \
             tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tests/test_bsp.c tests/test_portal.c tests/test_seethrough.c tests/test_walkable.c tools/mesh.c tools/bsp.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
-.PHONY: all tools test test-neon demo bench verify fuzz clean compile-checks readme-check examples cullmap-images lint bench-moc
+.PHONY: all tools test test-neon test-tsan demo bench verify fuzz clean compile-checks readme-check examples cullmap-images lint bench-moc
 all: tools
 tools: $(TOOLS)
 
@@ -92,6 +92,24 @@ test-neon:
 	  $(AARCH64_CC) -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -static -DTEST_SHARED_IMPL -o $(B)/neon/pvstest $(TEST_SRC) $(LDLIBS) && \
 	  cd $(B) && $(QEMU_AARCH64) ./neon/pvstest raster; \
 	else echo "test-neon: $(AARCH64_CC) or $(QEMU_AARCH64) not found, skipped"; fi
+
+# ThreadSanitizer (not part of `make test`): the raster group, whose frames run on two threads, and bakes on two
+# threads (`auto` on a city, each other conservative method and adaptive cells on an indoor scene, pvscheck -j 2) with
+# tools built under TSan in $(B)/tsan; any report fails it.
+TSAN_RUN := TSAN_OPTIONS=halt_on_error=1 $(B)/tsan
+test-tsan:
+	@mkdir -p $(B)/tsan
+	$(CC) -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -fsanitize=thread -DTEST_SHARED_IMPL -o $(B)/tsan/pvstest \
+	  $(TEST_SRC) $(LDLIBS)
+	cd $(B) && TSAN_OPTIONS=halt_on_error=1 ./tsan/pvstest raster
+	$(MAKE) B=$(B)/tsan CFLAGS_release="-O1 -g -fsanitize=thread" LDLIBS="$(LDLIBS) -fsanitize=thread" tools
+	$(TSAN_RUN)/pvsgen city --size 0.2 --max-cells 12 -o $(B)/tsan/c.obj --cells $(B)/tsan/c.txt
+	$(TSAN_RUN)/pvsgen indoor --size 0.3 --max-cells 12 -o $(B)/tsan/i.obj --cells $(B)/tsan/i.txt
+	$(TSAN_RUN)/pvsbake -q $(B)/tsan/c.obj --cells $(B)/tsan/c.txt -o $(B)/tsan/c.pvs -j 2
+	for m in portal otree shrink extproj vocc; do \
+	  $(TSAN_RUN)/pvsbake -q $(B)/tsan/i.obj --cells $(B)/tsan/i.txt -o $(B)/tsan/i.pvs -j 2 --method $$m || exit 1; done
+	$(TSAN_RUN)/pvsbake -q $(B)/tsan/i.obj --cells $(B)/tsan/i.txt -o $(B)/tsan/a.pvs -j 2 --adaptive 500
+	$(TSAN_RUN)/pvscheck -q -j 2 $(B)/tsan/c.obj $(B)/tsan/c.pvs
 
 # The examples: examples/NAME.c -> build/pvsNAME on the tool objects (demo; cullmap: per-frame culling
 # of the city, images in build/cullmap/; walkthrough, forest, indoor: the demo's images). pvsruntime is
