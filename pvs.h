@@ -22984,7 +22984,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 					if (i && v == (side ? maxs[i - 1] : mins[i - 1])) continue;
 					left = pvs__count_below(mins, n, v, 0);
 					right = n - pvs__count_below(maxs, n, v, 1);
-					score = (left > right ? left : right) + 2 * (left + right - n);
+					score = (left > right ? left : right) + (left + right > n ? 2 * (left + right - n) : 0);
 					if (left > 0 && right > 0 && left < n && right < n && score < best_score) {
 						best_score = score;
 						best_axis = axis;

@@ -490,6 +490,45 @@ static void test_cell_tables(void) {
 
 /* A cycle: in a file of many keys (K = 1), a key made a delta of a cell based on it (META's key count one less, so
    that only the chain rule can refuse it). */
+/* Flat cells (zero thickness) on every candidate split, which neither side's count holds (the split's copies are
+   then none, not fewer): 64 unit boxes in a row and a flat cell at each of their 65 faces. Leaves stay small (a rule
+   refusing such splits makes one leaf of 129 cells), look-ups right. */
+static void test_tree_flat_cells(void) {
+    enum { N = 64, CELLS = 2 * N + 1 };
+    static pvs_box b[CELLS];
+    static pvs_word t[CELLS];
+    pvs_file_desc d;
+    pvs_file f;
+    size_t size;
+    uint8_t *buf;
+    uint32_t c, tr, depth, w, j, most = 0, at;
+    for (c = 0; c < CELLS; ++c) {
+        b[c].min[0] = (float)(c < N ? c : c - N), b[c].max[0] = (float)(c < N ? c + 1 : c - N);
+        b[c].min[1] = b[c].min[2] = 0.0f, b[c].max[1] = b[c].max[2] = 1.0f;
+        t[c] = (pvs_word)c * 0x9e3779b97f4a7c15ull;
+    }
+    desc_init(&d, b, CELLS, 64, t);
+    buf = encode(&d, &size);
+    CHECK(buf && pvs_file_open(buf, size, &f, NULL) == PVS_OK);
+    if (!buf) return;
+    tr = section(buf, "TREE");
+    depth = test_rd32(buf + tr), w = test_rd32(buf + tr + 4);
+    at = tr + 8 + 5 * ((1u << depth) - 1u); /* the leaf offsets, then the items (a varint's last byte < 0x80) */
+    for (j = 0; j < (1u << depth); ++j) {
+        uint32_t k, n = 0, o0 = tbits(buf + at, (uint64_t)j * w, w), o1 = tbits(buf + at, (uint64_t)(j + 1) * w, w);
+        const uint8_t *items = buf + at + (((1u << depth) + 1u) * w + 7) / 8;
+        for (k = o0; k < o1; ++k) n += items[k] < 0x80;
+        most = n > most ? n : most;
+    }
+    CHECK(depth >= 4 && most <= 8);
+    for (c = 0; c <= 4 * N; ++c) {
+        float p[3];
+        p[0] = (float)c * 0.25f, p[1] = (float)(c % 5) * 0.25f, p[2] = 0.5f;
+        CHECK(pvs_file_find_cell(&f, p) == linear_find(&f, p));
+    }
+    free(buf);
+}
+
 static void test_cycle(void) {
     enum { CELLS = 40, OBJECTS = 100 };
     static pvs_box boxes[CELLS];
@@ -947,6 +986,7 @@ void test_format(void) {
     test_chain_bound();
     test_corruptions();
     test_cycle();
+    test_tree_flat_cells();
     test_shards();
     test_golden();
     test_corpus();
