@@ -488,8 +488,6 @@ static void test_cell_tables(void) {
 #undef BAD
 }
 
-/* A cycle: in a file of many keys (K = 1), a key made a delta of a cell based on it (META's key count one less, so
-   that only the chain rule can refuse it). */
 /* Flat cells (zero thickness) on every candidate split, which neither side's count holds (the split's copies are
    then none, not fewer): 64 unit boxes in a row and a flat cell at each of their 65 faces. Leaves stay small (a rule
    refusing such splits makes one leaf of 129 cells), look-ups right. */
@@ -529,6 +527,8 @@ static void test_tree_flat_cells(void) {
     free(buf);
 }
 
+/* A cycle: in a file of many keys (K = 1), a key made a delta of a cell based on it (META's key count one less, so
+   that only the chain rule can refuse it). */
 static void test_cycle(void) {
     enum { CELLS = 40, OBJECTS = 100 };
     static pvs_box boxes[CELLS];
