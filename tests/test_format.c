@@ -395,6 +395,14 @@ static void tbits_put(uint8_t *s, uint64_t pos, uint32_t v, uint32_t w) {
     }
 }
 
+/* TREE at tr: depth, leaf offset width, and where the axes, the leaf offsets and the items start (manual's layout). */
+static uint32_t tree_layout(const uint8_t *f, uint32_t tr, uint32_t *ow, uint32_t *axes, uint32_t *starts, uint32_t *items) {
+    uint32_t depth = test_rd32(f + tr), inner = (1u << depth) - 1;
+    *ow = test_rd32(f + tr + 4);
+    *axes = tr + 8 + 4 * inner, *starts = *axes + inner, *items = *starts + ((inner + 2) * *ow + 7) / 8;
+    return depth;
+}
+
 /* CELL's coordinate tables: a grid one (40 cells in a row on quarters: 41 x values; the 2-value tables stay f32) and
    f32 ones (boxes scaled by 0.1). */
 static void test_cell_tables(void) {
@@ -499,7 +507,7 @@ static void test_tree_flat_cells(void) {
     pvs_file f;
     size_t size;
     uint8_t *buf;
-    uint32_t c, tr, depth, w, j, most = 0, at;
+    uint32_t c, depth, w, j, most = 0, axes, at, items;
     for (c = 0; c < CELLS; ++c) {
         b[c].min[0] = (float)(c < N ? c : c - N), b[c].max[0] = (float)(c < N ? c + 1 : c - N);
         b[c].min[1] = b[c].min[2] = 0.0f, b[c].max[1] = b[c].max[2] = 1.0f;
@@ -509,13 +517,10 @@ static void test_tree_flat_cells(void) {
     buf = encode(&d, &size);
     CHECK(buf && pvs_file_open(buf, size, &f, NULL) == PVS_OK);
     if (!buf) return;
-    tr = section(buf, "TREE");
-    depth = test_rd32(buf + tr), w = test_rd32(buf + tr + 4);
-    at = tr + 8 + 5 * ((1u << depth) - 1u); /* the leaf offsets, then the items (a varint's last byte < 0x80) */
-    for (j = 0; j < (1u << depth); ++j) {
+    depth = tree_layout(buf, section(buf, "TREE"), &w, &axes, &at, &items);
+    for (j = 0; j < (1u << depth); ++j) { /* a leaf's cells: its items' varints, whose last bytes are < 0x80 */
         uint32_t k, n = 0, o0 = tbits(buf + at, (uint64_t)j * w, w), o1 = tbits(buf + at, (uint64_t)(j + 1) * w, w);
-        const uint8_t *items = buf + at + (((1u << depth) + 1u) * w + 7) / 8;
-        for (k = o0; k < o1; ++k) n += items[k] < 0x80;
+        for (k = o0; k < o1; ++k) n += buf[items + k] < 0x80;
         most = n > most ? n : most;
     }
     CHECK(depth >= 4 && most <= 8);
@@ -641,8 +646,7 @@ static void test_corruptions(void) {
     }
     /* TREE: depth, offset width, a NaN split, a bad axis, leaf offsets, their unused bits, an item past the cells */
     {
-        uint32_t depth = test_rd32(b + tr), ow = test_rd32(b + tr + 4), inner = (1u << depth) - 1, leaves = 1u << depth;
-        uint32_t axes = tr + 8 + 4 * inner, starts = axes + inner, items = starts + ((leaves + 1) * ow + 7) / 8;
+        uint32_t ow, axes, starts, items, depth = tree_layout(b, tr, &ow, &axes, &starts, &items), leaves = 1u << depth;
         CHECK(depth >= 2 && ow >= 1 && ow <= 32 && tbits(b + starts, (uint64_t)leaves * ow, ow) + items == tr + test_rd32(good + 32 + 16 * 2 + 8)); /* 40 cells */
         RESET(); test_wr32(b + tr, depth + 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
         RESET(); test_wr32(b + tr, 25); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
