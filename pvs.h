@@ -552,7 +552,7 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_des
    Map: pvs_raster_draw's for draws in order, byte for byte. Keep draws, their arrays, matrix until bands drawn. Bins
    and bands may come in rounds (each round's bins after every band of the one before): a round's bins drop triangles
    that earlier rounds' maps hide, so a first round of the nearest occluders (say 1,000) saves later rounds' bands most
-   work. */
+   work. Two threads taking parts and bands from opposite ends keep a band's tiles in one core's cache. */
 #define PVS_RASTER_PARTS 8
 /* INVALID_ARGUMENT as pvs_raster_draw, and for occludees, PVS_DRAW_MESH, untiled raster or bad part; BUFFER_TOO_SMALL
    past pvs_raster_desc.bin_triangles. */

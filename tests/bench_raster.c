@@ -39,17 +39,29 @@ static int by_d(const void *a, const void *b) {
 }
 
 /* Two threads for one frame: this one and a worker, meeting at spinning barriers (a frame is about a millisecond),
-   taking parts, bands and blocks of boxes as a job system would (the faster thread takes more) */
+   taking parts, bands and blocks of boxes as a job system would (the faster thread takes more), from opposite ends:
+   this thread from the first up, the worker from the last down, so a band stays on its thread from clear to draw to
+   pyramid and its tiles in that core's cache (one shared counter, either thread taking the next: 0 to 12% slower) */
 typedef struct frame2 {
     pvs_raster *r;
     const pvs_raster_draw_desc *d;
     const pvs_box *boxes;
-    uint32_t n_box, vis[2], next; /* next: the phase's next part, band or box block (taken by either thread) */
+    uint32_t n_box, vis[2], next; /* next: the phase's parts taken from the low end (low 16 bits), from the high end */
     int phase, go, done; /* phase: 0 bin, 1 draw, 2 boxes, 3 clear, 4 pyramid; go, done: generation counters */
 } frame2;
+/* Takes thread w's next part of n into *k: w 0 from the low end, 1 from the high end; 0 when all are taken. */
+static int frame2_take(frame2 *f, uint32_t w, uint32_t n, uint32_t *k) {
+    uint32_t v = __atomic_load_n(&f->next, __ATOMIC_RELAXED), lo, hi;
+    do {
+        lo = v & 0xffffu, hi = n - (v >> 16);
+        if (lo >= hi) return 0;
+    } while (!__atomic_compare_exchange_n(&f->next, &v, v + (w ? 0x10000u : 1u), 1, __ATOMIC_RELAXED, __ATOMIC_RELAXED));
+    *k = w ? hi - 1 : lo;
+    return 1;
+}
 static void frame2_run(frame2 *f, uint32_t w) {
     uint32_t i, k, v = 0, blocks = f->phase == 2 ? 32u : PVS_RASTER_PARTS;
-    while ((k = __atomic_fetch_add(&f->next, 1u, __ATOMIC_RELAXED)) < blocks) {
+    while (frame2_take(f, w, blocks, &k)) {
         if (f->phase == 0) pvs_raster_bin(f->r, f->d, 1, k);
         else if (f->phase == 1) pvs_raster_draw_band(f->r, f->d, 1, k);
         else if (f->phase == 3) pvs_raster_clear_band(f->r, k);
