@@ -1,6 +1,7 @@
 /* The portal method (>>portal): closed convex meshes recognised as solids (and open, concave or flat ones not),
    rooms and portals of a row of rooms whose doors zigzag, 0 misses against ray sampling there, on the indoor and
-   building generators (three seeds) and for a cell inside a solid; culling where the doors hide. */
+   building generators (three seeds) and for a cell inside a solid; culling where the doors hide, a sky box around
+   the level included. */
 #include "test.h"
 
 static int test_boxes_meet(const pvs_box *a, const pvs_box *b) {
@@ -120,6 +121,31 @@ static void tp_rooms(void) {
     CHECK(pvs_bitset_test(pvs + 0, 0) && pvs_bitset_test(pvs + 1, 1) && pvs_bitset_test(pvs + 2, 2));
     CHECK(!pvs_bitset_test(pvs + 0, 3) && !pvs_bitset_test(pvs + 3, 0));
     pvs_scene_destroy(s);
+}
+
+/* A sky box (a drawn closed box around the whole level, wound either way) is no solid: were it one, every room would
+   lie inside it and see every object meeting its box. The rooms cull as without it, 0 misses. */
+static void tp_sky_box(void) {
+    static const float lo[3] = {-3, -3, -3}, hi[3] = {46, 7, 13};
+    int kind;
+    for (kind = 0; kind <= 2; kind += 2) {
+        tp_level l;
+        pvs_portal_info info;
+        pvs_word pvs[4];
+        double mean;
+        pvs_scene *s;
+        tp_level_make(&l);
+        l.obj[l.objects].first_triangle = l.tc;
+        l.obj[l.objects++].triangle_count = 12;
+        tp_box(l.pos, &l.vc, l.idx, &l.tc, lo, hi, kind);
+        s = tp_scene(&l);
+        CHECK(s != NULL);
+        if (!s) return;
+        tp_bake_check(s, l.cells, 4, "portal sky box", &info, pvs, &mean);
+        CHECK(info.solids == l.walls + l.objects - 1 && info.rooms >= 4);
+        CHECK(pvs_bitset_test(pvs + 0, 0) && !pvs_bitset_test(pvs + 0, 3) && !pvs_bitset_test(pvs + 3, 0));
+        pvs_scene_destroy(s);
+    }
 }
 
 /* Objects are tested by their triangles, not their boxes: two small triangles in room 1's corners hidden from
@@ -370,6 +396,7 @@ static void tp_solid_objects(void) {
 
 void test_portal(void) {
     tp_rooms();
+    tp_sky_box();
     tp_triangles();
     tp_split();
     tp_solids();
