@@ -1,0 +1,52 @@
+#!/bin/sh
+# Every OpenArena map (make verify with ALL_MAPS=1; about 20 minutes on 2 cores): the maps of the packages
+# openarena-081-maps and its 0.8.5 patch beyond the six of tests/maps.sh, each on about 30 evenly spaced BSP-leaf
+# cells, baked with auto and portal on 2 threads and checked by pvscheck (seed 99): one line a map, then a summary.
+#   sh tests/maps_all.sh OUTDIR
+# A map is imported twice by tests/maps.sh: every leaf (to count them), then every N-th (its q3map2 PVS on the same
+# cells). Exits 1 when any bake fails or misses an object, 0 otherwise; 0 with a message when the package is absent.
+set -u
+B=${B:-build}
+out=${1:?usage: sh tests/maps_all.sh OUTDIR}
+DIR=${PVS_MAPS_DIR:-/usr/share/games/openarena/baseoa}
+SIX=" oa_dm7 ps37ctf oa_dm1 q3dm6ish oa_bases3 kaos2 "
+CELLS=${MAP_CELLS:-30}
+mkdir -p "$out"
+list() { # PK3: its maps' names
+  if command -v unzip > /dev/null 2>&1; then unzip -Z1 "$1" 2> /dev/null
+  else python3 -c "import sys, zipfile; print('\n'.join(zipfile.ZipFile(sys.argv[1]).namelist()))" "$1" 2> /dev/null; fi |
+    sed -n 's,^maps/\(.*\)\.bsp$,\1,p'
+}
+[ -r "$DIR/pak1-maps.pk3" ] || { echo "maps_all: $DIR/pak1-maps.pk3 not found (apt install openarena-081-maps): skipped"; exit 0; }
+fail=0; maps=0; misses=0; seen=" "
+for pk in "$DIR/pak1-maps.pk3" "$DIR/pak6-patch085.pk3"; do
+  [ -r "$pk" ] || continue
+  for m in $(list "$pk"); do
+    case "$SIX$seen" in *" $m "*) continue ;; esac
+    seen="$seen$m "
+    PVS_MAPS=$m PVS_MAPS_PK3=$pk sh tests/maps.sh "$out/all" 1 > /dev/null 2> "$out/$m.err" || { echo "map $m: import failed FAIL"; fail=1; continue; }
+    [ -s "$out/all/$m.cells" ] || { echo "map $m: no cells ($(tail -1 "$out/$m.err"))"; continue; }
+    n=$(grep -vc '^#' "$out/all/$m.cells")
+    PVS_MAPS=$m PVS_MAPS_PK3=$pk sh tests/maps.sh "$out" $(( (n + CELLS - 1) / CELLS )) > /dev/null 2>&1 ||
+      { echo "map $m: import failed FAIL"; fail=1; continue; }
+    q=$("$B/pvsinfo" "$out/$m.q3.pvs" | awk '/^pvs size/ { print $4 }')
+    line="map $m ($n leaves, $(grep -vc '^#' "$out/$m.cells") cells):"
+    for method in auto portal; do
+      if ! "$B/pvsbake" -q "$out/$m.obj" --cells "$out/$m.cells" -o "$out/$m.$method.pvs" -j 2 --no-state \
+           --method "$method" > /dev/null 2>&1; then
+        line="$line $method bake failed FAIL"; fail=1; continue
+      fi
+      c=$("$B/pvscheck" -q -j 2 --seed 99 "$out/$m.obj" "$out/$m.$method.pvs" 2> /dev/null | tail -1)
+      k=$(echo "$c" | sed -n 's/.*misses \([0-9]*\).*/\1/p'); k=${k:-1}
+      p=$(echo "$c" | sed -n 's/.*mean pvs \([0-9.]*\).*/\1/p')
+      t=$(echo "$c" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p')
+      line="$line $method $p ($(awk "BEGIN { printf \"%.2f\", ${p:-0} / $q }") of q3map2's $q, tightness $t), misses $k;"
+      misses=$((misses + k))
+      [ "$k" -eq 0 ] || fail=1
+    done
+    maps=$((maps + 1))
+    echo "$line"
+  done
+done
+echo "maps_all: $maps maps, $misses misses$([ $fail -eq 0 ] || echo ' FAIL')"
+exit $fail
