@@ -29,7 +29,7 @@ for pk in "$DIR/pak1-maps.pk3" "$DIR/pak6-patch085.pk3"; do
     n=$(grep -vc '^#' "$out/all/$m.cells")
     PVS_MAPS=$m PVS_MAPS_PK3=$pk sh tests/maps.sh "$out" $(( (n + CELLS - 1) / CELLS )) > /dev/null 2>&1 ||
       { echo "map $m: import failed FAIL"; fail=1; continue; }
-    q=$("$B/pvsinfo" "$out/$m.q3.pvs" | awk '/^pvs size/ { print $4 }')
+    q=$("$B/pvsinfo" "$out/$m.q3.pvs" 2> /dev/null | awk '/^pvs size/ { print $4 }'); q=${q:-0}
     line="map $m ($n leaves, $(grep -vc '^#' "$out/$m.cells") cells):"
     for method in auto portal; do
       if ! "$B/pvsbake" -q "$out/$m.obj" --cells "$out/$m.cells" -o "$out/$m.$method.pvs" -j 2 --no-state \
@@ -40,7 +40,7 @@ for pk in "$DIR/pak1-maps.pk3" "$DIR/pak6-patch085.pk3"; do
       k=$(echo "$c" | sed -n 's/.*misses \([0-9]*\).*/\1/p'); k=${k:-1}
       p=$(echo "$c" | sed -n 's/.*mean pvs \([0-9.]*\).*/\1/p')
       t=$(echo "$c" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p')
-      line="$line $method $p ($(awk "BEGIN { printf \"%.2f\", ${p:-0} / $q }") of q3map2's $q, tightness $t), misses $k;"
+      line="$line $method $p ($(awk "BEGIN { if ($q > 0) printf \"%.2f\", ${p:-0} / $q; else printf \"-\" }") of q3map2's $q, tightness $t), misses $k;"
       misses=$((misses + k))
       [ "$k" -eq 0 ] || fail=1
     done

@@ -186,6 +186,13 @@ static void tp_solids(void) {
     tp_bake_check(s, &cell, 1, "portal solids", &info, NULL, &mean);
     CHECK(info.solids == 2);
     pvs_scene_destroy(s);
+    /* a closed box that is the whole scene stays a solid (only one around other triangles is a shell: tp_rooms) */
+    s = test_scene_arrays(pos, 8, idx, 12, &obj, 1, 1);
+    CHECK(s != NULL);
+    if (!s) return;
+    tp_bake_check(s, &cell, 1, "portal lone solid", &info, NULL, &mean);
+    CHECK(info.solids == 1);
+    pvs_scene_destroy(s);
 }
 
 /* The box [lo, hi] with split vertices: every triangle its own three (as exported with per-face normals). */
