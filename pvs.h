@@ -1,4 +1,4 @@
-/* pvs.h - v0.14.2 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.14.3 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -155,7 +155,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 14
-#define PVS_VERSION_PATCH 2
+#define PVS_VERSION_PATCH 3
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -15804,15 +15804,23 @@ PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double ep
 	return lost;
 }
 
-/* w clipped to behind pl (within eps); 1 if vertices lost (pvs__po_split). */
+/* w clipped to behind pl: vertices within eps kept, edges cut where dist = 0 between one past eps and one behind pl
+   (pvs__po_split's only from one beyond -eps: a polygon nearly in pl lost what lies behind); 1 if vertices lost. */
 PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
 	pvs__po_wind t;
-	uint32_t i;
-	int lost;
-	for (i = 0; i < w->n && !(pvs__po_dist(pl, w->p[i]) > eps); ++i) {
+	double d[PVS__PO_MAXW], x[3], s;
+	uint32_t i, j, k, far = 0;
+	int lost = 0;
+	for (i = 0; i < w->n; ++i) far |= (d[i] = pvs__po_dist(pl, w->p[i])) > eps;
+	if (!far) return 0; /* wholly behind */
+	for (i = t.n = 0; i < w->n; ++i) {
+		j = (i + 1) % w->n;
+		if (d[i] <= eps) lost |= pvs__po_put(&t, &t.n, w->p[i]);
+		if (!((d[i] < 0.0 && d[j] > eps) || (d[i] > eps && d[j] < 0.0))) continue;
+		s = d[i] / (d[i] - d[j]);
+		PVS__FOR3(k) x[k] = w->p[i][k] + s * (w->p[j][k] - w->p[i][k]);
+		lost |= pvs__po_put(&t, &t.n, x);
 	}
-	if (i == w->n) return 0; /* wholly behind: pvs__po_split would copy it */
-	lost = pvs__po_split(w, pl, eps, NULL, &t);
 	w->n = t.n;
 	memcpy(w->p, t.p, t.n * sizeof(t.p[0])); /* not whole struct: flow clips often */
 	return lost;
@@ -15831,7 +15839,11 @@ PVS__STATIC void pvs__po_clip_base(pvs__poprep *p, uint32_t id, const uint32_t *
 	uint32_t j;
 	pvs__po_base(p->pl[id], 4.0 * p->ext, w);
 	for (j = 0; j < count && w->n >= 3; ++j)
-		if ((planes[j] >> 1) != skip) p->lost |= pvs__po_clip(w, p->pl[planes[j]], p->eps);
+		if ((planes[j] >> 1) != skip) {
+			pvs__po_wind t;
+			p->lost |= pvs__po_split(w, p->pl[planes[j]], p->eps, NULL, &t); /* as q3map2's ClipWinding */
+			*w = t;
+		}
 }
 
 PVS__STATIC void pvs__po_poly_free(const pvs_allocator *a, pvs__po_poly *q) {
@@ -24588,7 +24600,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.14.2 (2026-11-30) PORTAL: a closed convex mesh around all else (a sky box) is no solid (a map 2.6x tighter).
+   0.14.3 (2026-12-01) PORTAL: a polygon nearly in a plane keeps, clipped, what lies behind it (it missed an object).
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

@@ -2010,7 +2010,16 @@ static void test_portal_kernels(void) {
         }
         a = w;
         CHECK(pvs__po_clip(&a, pl, eps) == pvs__po_split(&w, pl, eps, NULL, &b));
-        mismatch += a.n != b.n || memcmp(a.p, b.p, a.n * sizeof(a.p[0])) != 0;
+        { /* the same, but for a cut where an edge runs from behind pl, within eps, to past eps: b's vertices in order
+             among a's (pvs__po_split keeps only the near end; the clip also where dist = 0) */
+            uint32_t cuts = 0, j = 0;
+            for (i = 0; i < w.n; ++i) {
+                double d0 = pvs__po_dist(pl, w.p[i]), d1 = pvs__po_dist(pl, w.p[(i + 1) % w.n]);
+                cuts += (d0 < 0.0 && d0 >= -eps && d1 > eps) || (d1 < 0.0 && d1 >= -eps && d0 > eps);
+            }
+            for (i = 0; i < a.n && j < b.n; ++i) j += !memcmp(a.p[i], b.p[j], sizeof(a.p[0]));
+            mismatch += cuts ? j != b.n || a.n != b.n + cuts : a.n != b.n || memcmp(a.p, b.p, a.n * sizeof(a.p[0])) != 0;
+        }
         if (eps > 0.0) { /* pvs__po_box_clip from the points' box, for them and for a part cut by another plane */
             double bc[6], pl2[4] = {0.6, -0.8, 0.0, 0.0};
             int side;
@@ -2023,6 +2032,36 @@ static void test_portal_kernels(void) {
             box_answers += side >= 0 && w.n > 0;
             mismatch += side == 0 ? a.n != 0 : side == 1 && (a.n != w.n || memcmp(a.p, w.p, a.n * sizeof(a.p[0])));
         }
+    }
+    { /* wrackdm17's wall (OpenArena): a triangle nearly in a leaf's face plane, two corners 0.0058 behind it, one
+         0.0196 past, tol 0.0082. pvs__po_split keeps only the two behind (an edge), and a ray from the cell meets the
+         triangle 0.0001 behind the plane, far from that edge: the clip keeps a quad holding that point */
+        static const double pl[4] = {-0.979260, -0.202606, 0.0, 877.4173}, X[3] = {-910.872, 71.882, 446.217};
+        double u[2][3];
+        uint32_t i, outside = 0;
+        pvs__po_wind w, a, b;
+        w.n = 3;
+        w.p[0][0] = -902.6152, w.p[0][1] = 32.0020, w.p[0][2] = 448.0;
+        w.p[1][0] = -902.6152, w.p[1][1] = 32.0020, w.p[1][2] = -384.0;
+        w.p[2][0] = -942.3652, w.p[2][1] = 224.0020, w.p[2][2] = 448.0;
+        a = w;
+        pvs__po_clip(&a, pl, 0.008192);
+        pvs__po_split(&w, pl, 0.008192, NULL, &b);
+        CHECK(b.n == 2 && a.n == 4);
+        for (i = 0; i < 3; ++i) u[0][i] = a.p[1][i] - a.p[0][i], u[1][i] = a.p[2][i] - a.p[1][i];
+        for (i = 0; i < a.n; ++i) { /* X inside each edge of the quad, in its plane (the edges turn one way) */
+            const double *e0 = a.p[i], *e1 = a.p[(i + 1) % a.n];
+            double c[3], n[3], s = 0.0;
+            uint32_t k;
+            n[0] = u[0][1] * u[1][2] - u[0][2] * u[1][1], n[1] = u[0][2] * u[1][0] - u[0][0] * u[1][2];
+            n[2] = u[0][0] * u[1][1] - u[0][1] * u[1][0];
+            c[0] = (e1[1] - e0[1]) * (X[2] - e0[2]) - (e1[2] - e0[2]) * (X[1] - e0[1]);
+            c[1] = (e1[2] - e0[2]) * (X[0] - e0[0]) - (e1[0] - e0[0]) * (X[2] - e0[2]);
+            c[2] = (e1[0] - e0[0]) * (X[1] - e0[1]) - (e1[1] - e0[1]) * (X[0] - e0[0]);
+            for (k = 0; k < 3; ++k) s += c[k] * n[k];
+            outside += s < 0.0;
+        }
+        CHECK(outside == 0);
     }
     for (t = 0; t < 5000; ++t) { /* separating planes through (p0, p1, p2) between sets A and B; every other pair of
                                      rounds A is a box's corners, tried also as the box (centre, half sizes): the

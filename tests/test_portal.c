@@ -161,6 +161,35 @@ static void tp_triangles(void) {
     pvs_scene_destroy(s);
 }
 
+/* A triangle lying nearly in the face of a room reached through a door (room 1's wall z = 10, tol = 1e-6 of the
+   scene's 45): its edge at x = 21 0.9 tol before the wall, out of sight of cell 0, its apex at x = 11.5 1.1 tol into
+   it. Rays from cell 0 see the part before the wall; clipped to the room's faces by keeping only corners within tol
+   (q3map2's ClipWinding), only that edge was left, and the window through the door dropped it: a miss (wrackdm17). */
+static void tp_near_plane(void) {
+    const float t = 45e-6f, tri[3][3] = {{21, 0.5f, 10 - 0.9f * t}, {21, 3.5f, 10 - 0.9f * t}, {11.5f, 2, 10 + 1.1f * t}};
+    tp_level l;
+    pvs_word pvs[4], seen[1];
+    double mean;
+    pvs_scene *s;
+    uint32_t k;
+    tp_level_make(&l);
+    l.obj[l.objects].first_triangle = l.tc;
+    l.obj[l.objects++].triangle_count = 1;
+    for (k = 0; k < 3; ++k) {
+        memcpy(l.pos + 3 * l.vc, tri[k], 3 * sizeof(float));
+        l.idx[3 * l.tc + k] = l.vc++;
+    }
+    l.tc += 1;
+    s = tp_scene(&l);
+    CHECK(s != NULL);
+    if (!s) return;
+    test_sample(s, l.cells, 16, 2048, 11, 16, 23, seen);
+    CHECK(pvs_bitset_test(seen, 4)); /* the rays see it: the check below can fail */
+    tp_bake_check(s, l.cells, 4, "portal near plane", NULL, pvs, &mean);
+    CHECK(pvs_bitset_test(pvs + 0, 4));
+    pvs_scene_destroy(s);
+}
+
 /* Only closed convex meshes are solids: an open box, a dented box (concave) and a flat box are not; an inside-out
    box is. */
 static void tp_solids(void) {
@@ -389,6 +418,7 @@ static void tp_solid_objects(void) {
 
 void test_portal(void) {
     tp_rooms();
+    tp_near_plane();
     tp_triangles();
     tp_split();
     tp_solids();
