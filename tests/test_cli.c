@@ -142,6 +142,8 @@ void test_cli(void) {
             {"--no-sweep --sweep-planes 8", "--no-sweep contradicts --sweep"},
             {"--method otree --otree-budget 63", "--otree-budget takes 64..16777216"},
             {"--method extproj --otree-budget 4096", "--otree-budget applies only to method otree"},
+            {"--method portal --portal-budget 999", "--portal-budget takes 1000..4294967295"},
+            {"--method otree --portal-budget 5000", "--portal-budget applies only to method portal"},
             {"--method extproj --subcells", "--subcells needs the sweep"},
             {"--no-sweep --subcells", "--subcells needs the sweep"},
             {"--method otree --subcells", "--subcells applies only to method extproj"},
@@ -261,6 +263,17 @@ void test_cli(void) {
     free(out);
     CHECK(test_exists(DIR "/ob2.pvs") && !test_same_files(DIR "/ob1.pvs", DIR "/ob2.pvs"));
     CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/ob2.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
+    /* --portal-budget reaches the bake (auto runs portal too): a flow cut at 1,000 clips takes every room, no miss */
+    CHECK(run("./pvsgen indoor --size 0.3 --max-cells 12 -o " DIR "/in.obj --cells " DIR "/in.txt", &out) == 0); free(out);
+    CHECK(run("./pvsbake " DIR "/in.obj -o " DIR "/pb1.pvs --cells " DIR "/in.txt --method portal", &out) == 0 &&
+          !strstr(out, "reached its budget"));
+    free(out);
+    CHECK(run("./pvsbake " DIR "/in.obj -o " DIR "/pb2.pvs --cells " DIR "/in.txt --method portal --portal-budget 1000", &out) == 0 &&
+          strstr(out, "the flow reached its budget and took every room"));
+    free(out);
+    CHECK(test_exists(DIR "/pb2.pvs") && !test_same_files(DIR "/pb1.pvs", DIR "/pb2.pvs"));
+    CHECK(run("./pvscheck -q " DIR "/in.obj " DIR "/pb2.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
+    CHECK(run("./pvsbake -q " DIR "/in.obj -o " DIR "/pb3.pvs --cells " DIR "/in.txt --portal-budget 5000", &out) == 0); free(out);
 
     /* a good bake; options in any order; identical bytes for 1 and 2 threads (-j2 spelt as make does) */
     rc = run("./pvsbake --method sample -q --cells " DIR "/cells.txt -o " DIR "/a.pvs -j 1 " DIR "/scene.obj --rays 256 --points 16", &out);

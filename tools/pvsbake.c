@@ -28,6 +28,8 @@ static const char *usage =
     "                    extproj (extended projections, Durand et al. 2000: conservative)\n"
     "                    vocc (virtual occluders, Koltun et al. 2000: conservative, 2.5D; the file also\n"
     "                    stores a few occluders per cell from which pvs_vocc_cull rebuilds the PVS)\n"
+    "                    portal (cells and portals, Teller and Sequin 1991: conservative; rooms between\n"
+    "                    the scene's closed convex meshes, e.g. a level's brush hulls)\n"
     "                    A,B,...: auto over these conservative methods only (e.g. otree,extproj)\n"
     "  --preview         fast, coarse, still conservative: auto runs only the cheapest method that\n"
     "                    applies, with coarse settings\n"
@@ -37,6 +39,9 @@ static const char *usage =
     "  --2d5, --3d       shrink: force the 2.5D (cull map) or 3D (depth cube) path; default: 2.5D\n"
     "                    when the synthesized occluders stand on the ground\n"
     "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 1.5, capped)\n"
+    "  --portal-budget N portal: clips of the portal flow per cell (1000..4294967295, default 2000000);\n"
+    "                    past it the flow takes every room it reaches. More can only cull more, for\n"
+    "                    more time (maps of many small rooms)\n"
     "  --otree-budget N  otree: nodes per occlusion tree (64..16777216, default 65536); more can\n"
     "                    only hide more, and on maps of many small facades costs far more time\n"
     "  --sweep           extproj: add the occlusion sweep (Durand 2000 §5) for scenes of many small\n"
@@ -95,6 +100,7 @@ static const struct { const char *option; pvs_method method; } method_options[] 
     {"--2d5", PVS_METHOD_SHRINK},         {"--3d", PVS_METHOD_SHRINK},          {"--voxel", PVS_METHOD_SHRINK},
     {"--sweep", PVS_METHOD_EXTPROJ},      {"--sweep-planes", PVS_METHOD_EXTPROJ}, {"--resolution", PVS_METHOD_EXTPROJ},
     {"--no-sweep", PVS_METHOD_EXTPROJ},   {"--otree-budget", PVS_METHOD_OTREE}, {"--subcells", PVS_METHOD_EXTPROJ},
+    {"--portal-budget", PVS_METHOD_PORTAL},
     {"--vocc-slices", PVS_METHOD_VOCC},   {"--vocc-max", PVS_METHOD_VOCC},
     {"--points", PVS_METHOD_SAMPLE},      {"--rays", PVS_METHOD_SAMPLE},        {"--seed", PVS_METHOD_SAMPLE},
 };
@@ -105,7 +111,7 @@ static const struct { const char *option; pvs_method method; } method_options[] 
 static uint32_t methods_run(pvs_method method, uint32_t mask) {
     return method != PVS_METHOD_AUTO ? 1u << method
          : mask ? mask
-         : (1u << PVS_METHOD_SHRINK) | (1u << PVS_METHOD_OTREE) | (1u << PVS_METHOD_EXTPROJ);
+         : (1u << PVS_METHOD_SHRINK) | (1u << PVS_METHOD_OTREE) | (1u << PVS_METHOD_EXTPROJ) | (1u << PVS_METHOD_PORTAL);
 }
 
 /* 2 (after a message) when option k of `given` (bits over method_options) names a method the bake
@@ -241,7 +247,7 @@ static const char *const value_options[] = {"-o", "--cells", "--walk-from", "--e
                                             "--up", "--method", "--eps", "-j", "--points", "--rays",
                                             "--seed", "--chain", "--shard", "--voxel", "--max-distance", "--state",
                                             "--state-every", "--vocc-slices", "--vocc-max", "--adaptive", "--min-cell",
-                                            "--sweep-planes", "--resolution", "--otree-budget", "--memory", NULL};
+                                            "--sweep-planes", "--resolution", "--otree-budget", "--portal-budget", "--memory", NULL};
 
 /* What identifies a bake for its state file: the scene's arrays, the cells, and every option that
    may change the result, as sorted "option=value" strings (value_options take the next argument,
@@ -366,7 +372,7 @@ typedef struct bake_options {
     pvs_shrink_mode shrink_mode;
     pvs_method method;
     uint32_t methods, up, threads, points, rays, seed, chain, shard_k, shard_n, state_every;
-    uint32_t sweep, adaptive, resolution, otree_budget, vocc_slices, vocc_max;
+    uint32_t sweep, adaptive, resolution, otree_budget, portal_budget, vocc_slices, vocc_max;
     uint32_t given; /* bits over method_options: the options given */
     int quiet, preview, no_state, no_names, no_lookup, vocc_only, no_sweep, subcells, state_every_given, threads_given;
 } bake_options;
@@ -410,6 +416,9 @@ static int parse_value(bake_options *o, const char *a, const char *v) {
         if (cli_parse_u32(v, 1, 16, &o->vocc_slices)) return tool_usage_error(TOOL, "--vocc-slices takes 1..16, not '%s'", v);
     } else if (!strcmp(a, "--sweep-planes")) {
         if (cli_parse_u32(v, 1, 256, &o->sweep)) return tool_usage_error(TOOL, "--sweep-planes takes 1..256, not '%s'", v);
+    } else if (!strcmp(a, "--portal-budget")) {
+        if (cli_parse_u32(v, 1000, 0xffffffffu, &o->portal_budget))
+            return tool_usage_error(TOOL, "--portal-budget takes 1000..4294967295, not '%s'", v);
     } else if (!strcmp(a, "--otree-budget")) {
         if (cli_parse_u32(v, 64, 1u << 24, &o->otree_budget)) return tool_usage_error(TOOL, "--otree-budget takes 64..16777216, not '%s'", v);
     } else if (!strcmp(a, "--resolution")) {
@@ -601,6 +610,7 @@ static void bake_desc_init(pvs_bake_desc *bd, const bake_options *o, const pvs_s
     bd->extproj.sweep = o->no_sweep ? PVS_EXTPROJ_NO_SWEEP : o->sweep; /* 0: auto's default, the sweep */
     bd->extproj.resolution = o->resolution;
     bd->otree.node_budget = o->otree_budget;
+    bd->portal.budget = o->portal_budget;
     bd->extproj.sweep_subcells = o->subcells ? 4u : 0u;
     bd->adaptive.budget = o->adaptive;
     bd->adaptive.min_size = o->min_cell;
@@ -688,7 +698,8 @@ static void print_notes(const pvs_bake *bake, const bake_options *o) {
         pvs_portal_info pi;
         pvs_bake_get_portal_info(bake, &pi);
         if (pi.cut_cells)
-            fprintf(stderr, "  portal: in %u of %u cells the flow reached its budget and took every room it reaches (conservative)\n",
+            fprintf(stderr, "  portal: in %u of %u cells the flow reached its budget and took every room it reaches (conservative;\n"
+                            "  --portal-budget raises it: it may cull more there, for more time)\n",
                     pi.cut_cells, rep.cells);
     }
     if (rep.cells_otree_budget)
