@@ -24,6 +24,23 @@ static void write_str(const char *path, const char *text) { write_text(path, tex
 /* Runs a shell command with stdout and stderr captured; returns the exit status, *out the text. */
 static int run(const char *cmd, char **out) { return test_run(DIR, cmd, out); }
 
+/* Bakes DIR/NAME.obj over DIR/NAME.txt by method M alone, then as "M BUDGET-OPTION N" (`how`): the first run's summary
+   without the note `says`, the second's with it, another file, no miss. */
+static void check_budget(const char *name, const char *how, const char *says) {
+    char cmd[512], f1[256], f2[256], *out = NULL;
+    size_t m = strcspn(how, " ");
+    snprintf(cmd, sizeof(cmd), "./pvsbake " DIR "/%s.obj -o " DIR "/%s1.pvs --cells " DIR "/%s.txt --method %.*s", name, name,
+             name, (int)m, how);
+    CHECK(run(cmd, &out) == 0 && out && !strstr(out, says)); free(out);
+    snprintf(cmd, sizeof(cmd), "./pvsbake " DIR "/%s.obj -o " DIR "/%s2.pvs --cells " DIR "/%s.txt --method %s", name, name, name, how);
+    CHECK(run(cmd, &out) == 0 && out && strstr(out, says)); free(out);
+    snprintf(f1, sizeof(f1), DIR "/%s1.pvs", name);
+    snprintf(f2, sizeof(f2), DIR "/%s2.pvs", name);
+    CHECK(test_exists(f2) && !test_same_files(f1, f2));
+    snprintf(cmd, sizeof(cmd), "./pvscheck -q " DIR "/%s.obj " DIR "/%s2.pvs", name, name);
+    CHECK(run(cmd, &out) == 0 && out && strstr(out, "misses 0 ")); free(out);
+}
+
 /* A box of 12 triangles, as OBJ lines, with vertex offset base (1-based). */
 static void box_obj(char *dst, size_t cap, const char *name, float x0, float y0, float z0, float x1, float y1, float z1, int base) {
     snprintf(dst, cap,
@@ -255,24 +272,11 @@ void test_cli(void) {
     free(out);
     CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/sw4.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
     CHECK(test_exists(DIR "/sw4.pvs") && !test_same_files(DIR "/sw1.pvs", DIR "/sw4.pvs"));
-    /* --otree-budget reaches the bake too: a tiny tree culls less, still with no miss */
-    CHECK(run("./pvsbake " DIR "/w.obj -o " DIR "/ob1.pvs --cells " DIR "/w.txt --method otree", &out) == 0 && !strstr(out, "node budget"));
-    free(out);
-    CHECK(run("./pvsbake " DIR "/w.obj -o " DIR "/ob2.pvs --cells " DIR "/w.txt --method otree --otree-budget 64", &out) == 0 &&
-          strstr(out, "a tree reached its node budget and took no more facades"));
-    free(out);
-    CHECK(test_exists(DIR "/ob2.pvs") && !test_same_files(DIR "/ob1.pvs", DIR "/ob2.pvs"));
-    CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/ob2.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
-    /* --portal-budget reaches the bake (auto runs portal too): a flow cut at 1,000 clips takes every room, no miss */
+    /* --otree-budget and --portal-budget reach the bake: a tiny tree culls less, a flow cut at 1,000 clips takes
+       every room, still with no miss; auto takes --portal-budget too (it runs portal) */
+    check_budget("w", "otree --otree-budget 64", "a tree reached its node budget and took no more facades");
     CHECK(run("./pvsgen indoor --size 0.3 --max-cells 12 -o " DIR "/in.obj --cells " DIR "/in.txt", &out) == 0); free(out);
-    CHECK(run("./pvsbake " DIR "/in.obj -o " DIR "/pb1.pvs --cells " DIR "/in.txt --method portal", &out) == 0 &&
-          !strstr(out, "reached its budget"));
-    free(out);
-    CHECK(run("./pvsbake " DIR "/in.obj -o " DIR "/pb2.pvs --cells " DIR "/in.txt --method portal --portal-budget 1000", &out) == 0 &&
-          strstr(out, "the flow reached its budget and took every room"));
-    free(out);
-    CHECK(test_exists(DIR "/pb2.pvs") && !test_same_files(DIR "/pb1.pvs", DIR "/pb2.pvs"));
-    CHECK(run("./pvscheck -q " DIR "/in.obj " DIR "/pb2.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
+    check_budget("in", "portal --portal-budget 1000", "the flow reached its budget and took every room");
     CHECK(run("./pvsbake -q " DIR "/in.obj -o " DIR "/pb3.pvs --cells " DIR "/in.txt --portal-budget 5000", &out) == 0); free(out);
 
     /* a good bake; options in any order; identical bytes for 1 and 2 threads (-j2 spelt as make does) */

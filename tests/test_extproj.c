@@ -1978,7 +1978,7 @@ static void test_sweep_subcells(void) {
    its clipped cell boxes kept by plane. */
 static void test_portal_kernels(void) {
     uint64_t st = 0x90a7a1ull; /* its own generator: the tests after it keep their sequences */
-    uint32_t t, mismatch = 0, wrong = 0, missed = 0, found = 0, boxes = 0, box_answers = 0, twice = 0;
+    uint32_t t, mismatch = 0, wrong = 0, missed = 0, found = 0, boxes = 0, box_answers = 0, twice = 0, uncovered = 0;
     for (t = 0; t < 5000; ++t) {
         double v[16][3], pl[4], box[6] = {DBL_MAX, DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX, -DBL_MAX};
         double eps = t % 3 == 0 ? 0.0 : t % 3 == 1 ? 1e-9 : 0.25;
@@ -2063,6 +2063,46 @@ static void test_portal_kernels(void) {
         }
         CHECK(outside == 0);
     }
+    for (t = 0; t < 2000; ++t) { /* the clip against its definition: triangles within 2 eps of a plane each side keep
+                                    every point of theirs behind it (within 1e-9), points sampled in barycentrics */
+        double pl[4], eps = t % 2 ? 0.25 : 1e-3, len = 0.0, n[3], e[2][3];
+        uint32_t i, k, m;
+        pvs__po_wind w;
+        for (k = 0; k < 3; ++k) pl[k] = test_rnd(&st) - 0.5, len += pl[k] * pl[k];
+        for (k = 0, len = sqrt(len); k < 3; ++k) pl[k] /= len;
+        pl[3] = test_rnd(&st) * 4.0 - 2.0;
+        w.n = 3;
+        for (i = 0; i < 3; ++i) { /* a random point moved onto the plane, then off it by up to 2 eps */
+            double x[3], d, off = (test_rnd(&st) * 4.0 - 2.0) * eps;
+            for (k = 0; k < 3; ++k) x[k] = test_rnd(&st) * 8.0 - 4.0;
+            d = pvs__po_dist(pl, x);
+            for (k = 0; k < 3; ++k) w.p[i][k] = x[k] - (d - off) * pl[k];
+        }
+        for (k = 0; k < 3; ++k) e[0][k] = w.p[1][k] - w.p[0][k], e[1][k] = w.p[2][k] - w.p[0][k];
+        n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1], n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
+        n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+        {
+            pvs__po_wind a = w;
+            pvs__po_clip(&a, pl, eps);
+            for (m = 0; m < 64; ++m) {
+                double u = test_rnd(&st), v = test_rnd(&st), x[3];
+                if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+                for (k = 0; k < 3; ++k) x[k] = w.p[0][k] + u * e[0][k] + v * e[1][k];
+                if (pvs__po_dist(pl, x) > 0.0) continue;
+                for (i = 0; i < a.n; ++i) { /* inside each edge of the clipped polygon, turning as the triangle */
+                    const double *p0 = a.p[i], *p1 = a.p[(i + 1) % a.n];
+                    double c[3], d = 0.0, scale = 0.0;
+                    c[0] = (p1[1] - p0[1]) * (x[2] - p0[2]) - (p1[2] - p0[2]) * (x[1] - p0[1]);
+                    c[1] = (p1[2] - p0[2]) * (x[0] - p0[0]) - (p1[0] - p0[0]) * (x[2] - p0[2]);
+                    c[2] = (p1[0] - p0[0]) * (x[1] - p0[1]) - (p1[1] - p0[1]) * (x[0] - p0[0]);
+                    for (k = 0; k < 3; ++k) d += c[k] * n[k], scale += fabs(c[k] * n[k]);
+                    if (d < -1e-9 * (scale + 1.0)) break;
+                }
+                uncovered += a.n < 3 || i < a.n;
+            }
+        }
+    }
+    CHECK(uncovered == 0);
     for (t = 0; t < 5000; ++t) { /* separating planes through (p0, p1, p2) between sets A and B; every other pair of
                                      rounds A is a box's corners, tried also as the box (centre, half sizes): the
                                      same answer and plane */

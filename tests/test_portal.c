@@ -75,6 +75,19 @@ static pvs_scene *tp_scene(const tp_level *l) {
     return test_scene_arrays(l->pos, l->vc, l->idx, l->tc, l->obj, l->objects, 1);
 }
 
+/* l's scene with one more object: `count` triangles, their corners in tri (3 each). */
+static pvs_scene *tp_scene_with(tp_level *l, const float (*tri)[3], uint32_t count) {
+    uint32_t k;
+    l->obj[l->objects].first_triangle = l->tc;
+    l->obj[l->objects++].triangle_count = count;
+    for (k = 0; k < 3 * count; ++k) {
+        memcpy(l->pos + 3 * l->vc, tri[k], 3 * sizeof(float));
+        l->idx[3 * l->tc + k] = l->vc++;
+    }
+    l->tc += count;
+    return tp_scene(l);
+}
+
 /* Bakes `cells` by PORTAL, checks 0 misses against ray sampling; the PVS of cell c in pvs (count x words). */
 static void tp_bake_check(const pvs_scene *s, const pvs_box *cells, uint32_t count, const char *label,
                           pvs_portal_info *info, pvs_word *pvs, double *mean) {
@@ -144,16 +157,8 @@ static void tp_triangles(void) {
     pvs_word pvs[4];
     double mean;
     pvs_scene *s;
-    uint32_t k;
     tp_level_make(&l);
-    l.obj[l.objects].first_triangle = l.tc;
-    l.obj[l.objects++].triangle_count = 2;
-    for (k = 0; k < 6; ++k) {
-        memcpy(l.pos + 3 * l.vc, tri[k / 3][k % 3], 3 * sizeof(float));
-        l.idx[3 * l.tc + k] = l.vc++;
-    }
-    l.tc += 2;
-    s = tp_scene(&l);
+    s = tp_scene_with(&l, tri[0], 2);
     CHECK(s != NULL);
     if (!s) return;
     tp_bake_check(s, l.cells, 4, "portal triangles", NULL, pvs, &mean);
@@ -171,16 +176,8 @@ static void tp_near_plane(void) {
     pvs_word pvs[4], seen[1];
     double mean;
     pvs_scene *s;
-    uint32_t k;
     tp_level_make(&l);
-    l.obj[l.objects].first_triangle = l.tc;
-    l.obj[l.objects++].triangle_count = 1;
-    for (k = 0; k < 3; ++k) {
-        memcpy(l.pos + 3 * l.vc, tri[k], 3 * sizeof(float));
-        l.idx[3 * l.tc + k] = l.vc++;
-    }
-    l.tc += 1;
-    s = tp_scene(&l);
+    s = tp_scene_with(&l, tri, 1);
     CHECK(s != NULL);
     if (!s) return;
     test_sample(s, l.cells, 16, 2048, 11, 16, 23, seen);
