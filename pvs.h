@@ -24600,7 +24600,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.15.0 (2026-12-01) PORTAL: flow budget 2,000,000 clips a cell (was 200,000): 17 of 52 maps up to 40% tighter.
+   0.15.0 (2026-12-01) PORTAL: flow budget 2,000,000 clips a cell (was 200,000): 17 of 52 maps up to 39% tighter.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

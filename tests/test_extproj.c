@@ -1976,6 +1976,20 @@ static void test_sweep_subcells(void) {
    the same answer as the box itself (centre and half sizes: the flow's whole-cell source), and a plane found twice is
    kept once; a polygon's box against a plane (pvs__po_box_clip) answers as pvs__po_clip does; the flow's queue; and
    its clipped cell boxes kept by plane. */
+/* 1 if polygon a (3 or more corners, turning about n) holds x of its plane: inside each edge within 1e-9 of the
+   terms (pvs__sv_cross, pvs__sv_dot: the shadow-volume tree's). */
+static int po_holds(const pvs__po_wind *a, const double n[3], const double x[3]) {
+    uint32_t i, k;
+    for (i = 0; i < a->n; ++i) {
+        double e[3], r[3], c[3], scale = 0.0;
+        for (k = 0; k < 3; ++k) e[k] = a->p[(i + 1) % a->n][k] - a->p[i][k], r[k] = x[k] - a->p[i][k];
+        pvs__sv_cross(e, r, c);
+        for (k = 0; k < 3; ++k) scale += fabs(c[k] * n[k]);
+        if (pvs__sv_dot(c, n) < -1e-9 * (scale + 1.0)) return 0;
+    }
+    return a->n >= 3;
+}
+
 static void test_portal_kernels(void) {
     uint64_t st = 0x90a7a1ull; /* its own generator: the tests after it keep their sequences */
     uint32_t t, mismatch = 0, wrong = 0, missed = 0, found = 0, boxes = 0, box_answers = 0, twice = 0, uncovered = 0;
@@ -2037,8 +2051,8 @@ static void test_portal_kernels(void) {
          0.0196 past, tol 0.0082. pvs__po_split keeps only the two behind (an edge), and a ray from the cell meets the
          triangle 0.0001 behind the plane, far from that edge: the clip keeps a quad holding that point */
         static const double pl[4] = {-0.979260, -0.202606, 0.0, 877.4173}, X[3] = {-910.872, 71.882, 446.217};
-        double u[2][3];
-        uint32_t i, outside = 0;
+        double u[2][3], n[3];
+        uint32_t i;
         pvs__po_wind w, a, b;
         w.n = 3;
         w.p[0][0] = -902.6152, w.p[0][1] = 32.0020, w.p[0][2] = 448.0;
@@ -2049,19 +2063,8 @@ static void test_portal_kernels(void) {
         pvs__po_split(&w, pl, 0.008192, NULL, &b);
         CHECK(b.n == 2 && a.n == 4);
         for (i = 0; i < 3; ++i) u[0][i] = a.p[1][i] - a.p[0][i], u[1][i] = a.p[2][i] - a.p[1][i];
-        for (i = 0; i < a.n; ++i) { /* X inside each edge of the quad, in its plane (the edges turn one way) */
-            const double *e0 = a.p[i], *e1 = a.p[(i + 1) % a.n];
-            double c[3], n[3], s = 0.0;
-            uint32_t k;
-            n[0] = u[0][1] * u[1][2] - u[0][2] * u[1][1], n[1] = u[0][2] * u[1][0] - u[0][0] * u[1][2];
-            n[2] = u[0][0] * u[1][1] - u[0][1] * u[1][0];
-            c[0] = (e1[1] - e0[1]) * (X[2] - e0[2]) - (e1[2] - e0[2]) * (X[1] - e0[1]);
-            c[1] = (e1[2] - e0[2]) * (X[0] - e0[0]) - (e1[0] - e0[0]) * (X[2] - e0[2]);
-            c[2] = (e1[0] - e0[0]) * (X[1] - e0[1]) - (e1[1] - e0[1]) * (X[0] - e0[0]);
-            for (k = 0; k < 3; ++k) s += c[k] * n[k];
-            outside += s < 0.0;
-        }
-        CHECK(outside == 0);
+        pvs__sv_cross(u[0], u[1], n);
+        CHECK(po_holds(&a, n, X));
     }
     for (t = 0; t < 2000; ++t) { /* the clip against its definition: triangles within 2 eps of a plane each side keep
                                     every point of theirs behind it (within 1e-9), points sampled in barycentrics */
@@ -2079,8 +2082,7 @@ static void test_portal_kernels(void) {
             for (k = 0; k < 3; ++k) w.p[i][k] = x[k] - (d - off) * pl[k];
         }
         for (k = 0; k < 3; ++k) e[0][k] = w.p[1][k] - w.p[0][k], e[1][k] = w.p[2][k] - w.p[0][k];
-        n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1], n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
-        n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+        pvs__sv_cross(e[0], e[1], n);
         {
             pvs__po_wind a = w;
             pvs__po_clip(&a, pl, eps);
@@ -2088,17 +2090,7 @@ static void test_portal_kernels(void) {
                 double u = test_rnd(&st), v = test_rnd(&st), x[3];
                 if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
                 for (k = 0; k < 3; ++k) x[k] = w.p[0][k] + u * e[0][k] + v * e[1][k];
-                if (pvs__po_dist(pl, x) > 0.0) continue;
-                for (i = 0; i < a.n; ++i) { /* inside each edge of the clipped polygon, turning as the triangle */
-                    const double *p0 = a.p[i], *p1 = a.p[(i + 1) % a.n];
-                    double c[3], d = 0.0, scale = 0.0;
-                    c[0] = (p1[1] - p0[1]) * (x[2] - p0[2]) - (p1[2] - p0[2]) * (x[1] - p0[1]);
-                    c[1] = (p1[2] - p0[2]) * (x[0] - p0[0]) - (p1[0] - p0[0]) * (x[2] - p0[2]);
-                    c[2] = (p1[0] - p0[0]) * (x[1] - p0[1]) - (p1[1] - p0[1]) * (x[0] - p0[0]);
-                    for (k = 0; k < 3; ++k) d += c[k] * n[k], scale += fabs(c[k] * n[k]);
-                    if (d < -1e-9 * (scale + 1.0)) break;
-                }
-                uncovered += a.n < 3 || i < a.n;
+                if (pvs__po_dist(pl, x) <= 0.0) uncovered += !po_holds(&a, n, x); /* turning as the triangle */
             }
         }
     }
