@@ -81,11 +81,10 @@
    Coordinates. Any right- or left-handed frame; the scene's `up_axis` (1 = Y, the OBJ default, or 2 = Z) is the
    2.5D methods' height axis. Cells are axis-aligned boxes in scene units.
 
-   Conservative. A PVS holds every object visible from any point of its cell, for every eps (sampling or shrinking
-   distance; smaller is tighter and slower). Except `sample` (ray sampling): an estimate from below, tests' yardstick;
-   its files carry PVS_FILE_APPROXIMATE. One tolerance: OTREE's facade extraction closes cracks and offsets up to eight
-   float epsilons of scene's coordinates between pieces of one wall (T-junctions; about 1 mm at 1 km); openings to see
-   through must be wider.
+   Conservative. A PVS holds every object visible from any point of its cell, for every eps (smaller: tighter, slower).
+   Except `sample` (ray sampling): an estimate from below, tests' yardstick; its files carry PVS_FILE_APPROXIMATE. One
+   tolerance: OTREE's facade extraction closes cracks and offsets up to eight float epsilons of scene's coordinates
+   between pieces of one wall (T-junctions; about 1 mm at 1 km); openings to see through must be wider.
 
    Methods. AUTO, the default, intersects the PVSs of the conservative methods that can cull in the scene, cheapest
    first: PORTAL (closed convex meshes bound rooms), OTREE (vertical walls), EXTPROJ with its sweep (§5), SHRINK
@@ -100,12 +99,12 @@
    cell's leaves depth first; pvs_bake_cell_pvs gives a whole cell's PVS. Deterministic for any thread count; not with
    shards, VOCC or resuming.
 
-   Threads. No thread started, no global mutable state. Read-only objects (a created pvs_scene or pvs_kdtree, an opened
-   pvs_file) may be shared. pvs_bake_run_task may run concurrently for distinct tasks (with a thread-safe allocator, as
-   malloc is); output is byte-identical for any order or thread count.
+   Threads. None started, no global mutable state. A created pvs_scene or pvs_kdtree, an opened pvs_file may be shared.
+   pvs_bake_run_task may run concurrently for distinct tasks (thread-safe allocator, as malloc); output is
+   byte-identical for any order or thread count.
 
-   Errors. Functions return pvs_result (0 = PVS_OK, negative = error; pvs_result_string names it); most fill an optional
-   `pvs_error *` with the code, offending index or byte offset, and message. Bad data: a result code, never PVS_ASSERT.
+   Errors. pvs_result: 0 = PVS_OK, negative = error (pvs_result_string); most functions fill an optional `pvs_error *`
+   with code, offending index or byte offset, message. Bad data: a result code, never PVS_ASSERT.
 
    Trust. pvs_scene_create validates every index, count and coordinate. pvs_file_open is safe on untrusted bytes: it
    checks every offset, size, count and checksum, never reads outside the buffer; calls on an opened file cannot fail
@@ -15780,15 +15779,16 @@ PVS__STATIC int pvs__po_put(pvs__po_wind *w, uint32_t *n, const double *x) {
 }
 
 /* Splits w by pl: dist <= eps to *back, >= -eps to *front (either NULL ok); 1 if vertices lost (> PVS__PO_MAXW). */
-PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, pvs__po_wind *front,
+PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, double cut, pvs__po_wind *front,
 		pvs__po_wind *back) {
 	double dist[PVS__PO_MAXW];
 	uint32_t i, nf = 0, nb = 0;
-	int lost = 0;
-	for (i = 0; i < w->n; ++i) dist[i] = pvs__po_dist(pl, w->p[i]);
+	int lost = 0, far = 0;
+	for (i = 0; i < w->n; ++i) far |= (dist[i] = pvs__po_dist(pl, w->p[i])) > eps;
+	if (!front && !far) return -1; /* wholly behind: back unwritten */
 	for (i = 0; i < w->n; ++i) {
 		uint32_t j = (i + 1) % w->n, k;
-		int cross = (dist[i] < -eps && dist[j] > eps) || (dist[i] > eps && dist[j] < -eps);
+		int cross = (dist[i] < cut && dist[j] > eps) || (dist[i] > eps && dist[j] < cut);
 		double x[3];
 		if (cross) {
 			double t = dist[i] / (dist[i] - dist[j]);
@@ -15804,23 +15804,13 @@ PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double ep
 	return lost;
 }
 
-/* w clipped to behind pl: vertices within eps kept, edges cut where dist = 0 between one past eps and one behind pl
-   (pvs__po_split's only from one beyond -eps: a polygon nearly in pl lost what lies behind); 1 if vertices lost. */
-PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
+/* w clipped to behind pl: vertices within eps kept, edges cut where they cross between one past eps and one behind
+   `cut`: -eps as q3map2's ClipWinding (BSP build), 0 in the flow (-eps lost what lies behind a polygon nearly in pl);
+   1 if vertices lost. */
+PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps, double cut) {
 	pvs__po_wind t;
-	double d[PVS__PO_MAXW], x[3], s;
-	uint32_t i, j, k, far = 0;
-	int lost = 0;
-	for (i = 0; i < w->n; ++i) far |= (d[i] = pvs__po_dist(pl, w->p[i])) > eps;
-	if (!far) return 0; /* wholly behind */
-	for (i = t.n = 0; i < w->n; ++i) {
-		j = (i + 1) % w->n;
-		if (d[i] <= eps) lost |= pvs__po_put(&t, &t.n, w->p[i]);
-		if (!((d[i] < 0.0 && d[j] > eps) || (d[i] > eps && d[j] < 0.0))) continue;
-		s = d[i] / (d[i] - d[j]);
-		PVS__FOR3(k) x[k] = w->p[i][k] + s * (w->p[j][k] - w->p[i][k]);
-		lost |= pvs__po_put(&t, &t.n, x);
-	}
+	int lost = pvs__po_split(w, pl, eps, cut, NULL, &t);
+	if (lost < 0) return 0;
 	w->n = t.n;
 	memcpy(w->p, t.p, t.n * sizeof(t.p[0])); /* not whole struct: flow clips often */
 	return lost;
@@ -15839,11 +15829,7 @@ PVS__STATIC void pvs__po_clip_base(pvs__poprep *p, uint32_t id, const uint32_t *
 	uint32_t j;
 	pvs__po_base(p->pl[id], 4.0 * p->ext, w);
 	for (j = 0; j < count && w->n >= 3; ++j)
-		if ((planes[j] >> 1) != skip) {
-			pvs__po_wind t;
-			p->lost |= pvs__po_split(w, p->pl[planes[j]], p->eps, NULL, &t); /* as q3map2's ClipWinding */
-			*w = t;
-		}
+		if ((planes[j] >> 1) != skip) p->lost |= pvs__po_clip(w, p->pl[planes[j]], p->eps, -p->eps);
 }
 
 PVS__STATIC void pvs__po_poly_free(const pvs_allocator *a, pvs__po_poly *q) {
@@ -15953,7 +15939,7 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 		n = 0;
 		for (f = 0; f < q->face_count; ++f) {
 			pvs__po_face(q, f, &w);
-			p->lost |= pvs__po_split(&w, pl, p->eps, &a, &b);
+			p->lost |= pvs__po_split(&w, pl, p->eps, -p->eps, &a, &b);
 			if ((side == 0 ? a.n : b.n) >= 3) {
 				scratch[n] = side == 0 ? a : b;
 				planes[n++] = q->plane[f];
@@ -16319,7 +16305,7 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 				b->oom = 1;
 				return;
 			}
-			if (hi > p->eps) p->lost |= pvs__po_split(w, p->pl[nd->plane], p->eps, parts, parts + 1);
+			if (hi > p->eps) p->lost |= pvs__po_split(w, p->pl[nd->plane], p->eps, -p->eps, parts, parts + 1);
 			else parts[0] = parts[1] = *w;
 			for (i = 0; i < 2; ++i)
 				if (parts[i].n >= 3) pvs__po_push(b, parts + i, plane, nd->child[i], from);
@@ -16578,7 +16564,7 @@ PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__
 		memset(c->fp[i], 0, sizeof(c->fp[i]));
 		c->fp[i][i >> 1] = (i & 1) ? 1.0 : -1.0;
 		c->fp[i][3] = c->fp[i][i >> 1] * f->c[faces[i][0]][i >> 1];
-		pvs__po_clip(&w, pl, p->eps);
+		pvs__po_clip(&w, pl, p->eps, 0.0);
 		pvs__po_set_add(c, (const double(*)[3])w.p, w.n, p->eps, i);
 	}
 	memcpy(c->fp[6], pl, sizeof(c->fp[6]));
@@ -16616,8 +16602,8 @@ PVS__STATIC int pvs__po_meets(const pvs__poprep *p, const pvs_scene *s, uint32_t
 		int lost = 0;
 		tw.n = 3;
 		for (k = 0; k < 9; ++k) tw.p[k / 3][k % 3] = s->positions[3 * (size_t)c[k / 3] + k % 3];
-		for (k = 0; k < lp->face_count && tw.n; ++k) lost |= pvs__po_clip(&tw, p->pl[lp->plane[k]], p->tol);
-		for (j = 0; w && j < w->np && tw.n; ++j) lost |= pvs__po_clip(&tw, w->pl[j], p->tol);
+		for (k = 0; k < lp->face_count && tw.n; ++k) lost |= pvs__po_clip(&tw, p->pl[lp->plane[k]], p->tol, 0.0);
+		for (j = 0; w && j < w->np && tw.n; ++j) lost |= pvs__po_clip(&tw, w->pl[j], p->tol, 0.0);
 		keep = tw.n > 0 || lost;
 	}
 	return keep;
@@ -16885,7 +16871,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 				w.n = side ? w.n : 0;
 				if (side >= 0) continue;
 				if (!c++) memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
-				f->cut |= pvs__po_clip(&w, win.pl[k], p->tol);
+				f->cut |= pvs__po_clip(&w, win.pl[k], p->tol, 0.0);
 			}
 			if (w.n >= 3 && !c) memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
 			if (w.n < 3 && k > 1) { /* plane that emptied it first for next portal (same halfspaces) */

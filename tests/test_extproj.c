@@ -1969,7 +1969,7 @@ static void test_sweep_subcells(void) {
 
 /* PORTAL's fast kernels (>>portal) against their plain forms, here where the implementation is private: the side of
    a polytope to an axial plane from its box (pvs__po_side_box) against the vertex loop (pvs__po_side), and
-   pvs__po_clip (which returns at once for a winding wholly behind) against pvs__po_split, on random points snapped to
+   pvs__po_clip at cut 0 (the flow's) against cut -eps (pvs__po_split's back part, the BSP's), on random points snapped to
    a coarse grid so that ties and points on the plane occur; then separating planes (pvs__po_try_plane, first tested
    unnormalized): every plane it makes has the first set within eps on its side and the second on the other (checked
    in long double), and it finds the plane whenever both sets clear it by 4 eps; a box's corners as the first set give
@@ -2022,10 +2022,10 @@ static void test_portal_kernels(void) {
             len = sqrt(pl[0] * pl[0] + pl[1] * pl[1] + pl[2] * pl[2]);
             for (k = 0; k < 3; ++k) pl[k] /= len > 0.0 ? len : 1.0;
         }
-        a = w;
-        CHECK(pvs__po_clip(&a, pl, eps) == pvs__po_split(&w, pl, eps, NULL, &b));
+        a = b = w;
+        CHECK(pvs__po_clip(&a, pl, eps, 0.0) == pvs__po_clip(&b, pl, eps, -eps));
         { /* the same, but for a cut where an edge runs from behind pl, within eps, to past eps: b's vertices in order
-             among a's (pvs__po_split keeps only the near end; the clip also where dist = 0) */
+             among a's (a cut at -eps keeps only the near end; at 0 also where dist = 0) */
             uint32_t cuts = 0, j = 0;
             for (i = 0; i < w.n; ++i) {
                 double d0 = pvs__po_dist(pl, w.p[i]), d1 = pvs__po_dist(pl, w.p[(i + 1) % w.n]);
@@ -2039,16 +2039,16 @@ static void test_portal_kernels(void) {
             int side;
             for (k = 0; k < 3; ++k) bc[k] = 0.5 * (box[k] + box[k + 3]), bc[k + 3] = 0.5 * (box[k + 3] - box[k]);
             pl2[3] = floor(test_rnd(&st) * 6.0) - 3.0;
-            if (t & 16) pvs__po_clip(&w, pl2, eps);
+            if (t & 16) pvs__po_clip(&w, pl2, eps, 0.0);
             side = pvs__po_box_clip(bc, pl, eps);
             a = w;
-            pvs__po_clip(&a, pl, eps);
+            pvs__po_clip(&a, pl, eps, 0.0);
             box_answers += side >= 0 && w.n > 0;
             mismatch += side == 0 ? a.n != 0 : side == 1 && (a.n != w.n || memcmp(a.p, w.p, a.n * sizeof(a.p[0])));
         }
     }
     { /* wrackdm17's wall (OpenArena): a triangle nearly in a leaf's face plane, two corners 0.0058 behind it, one
-         0.0196 past, tol 0.0082. pvs__po_split keeps only the two behind (an edge), and a ray from the cell meets the
+         0.0196 past, tol 0.0082. a cut at -tol keeps only the two behind (an edge), and a ray from the cell meets the
          triangle 0.0001 behind the plane, far from that edge: the clip keeps a quad holding that point */
         static const double pl[4] = {-0.979260, -0.202606, 0.0, 877.4173}, X[3] = {-910.872, 71.882, 446.217};
         double u[2][3], n[3];
@@ -2058,9 +2058,9 @@ static void test_portal_kernels(void) {
         w.p[0][0] = -902.6152, w.p[0][1] = 32.0020, w.p[0][2] = 448.0;
         w.p[1][0] = -902.6152, w.p[1][1] = 32.0020, w.p[1][2] = -384.0;
         w.p[2][0] = -942.3652, w.p[2][1] = 224.0020, w.p[2][2] = 448.0;
-        a = w;
-        pvs__po_clip(&a, pl, 0.008192);
-        pvs__po_split(&w, pl, 0.008192, NULL, &b);
+        a = b = w;
+        pvs__po_clip(&a, pl, 0.008192, 0.0);
+        pvs__po_clip(&b, pl, 0.008192, -0.008192);
         CHECK(b.n == 2 && a.n == 4);
         for (i = 0; i < 3; ++i) u[0][i] = a.p[1][i] - a.p[0][i], u[1][i] = a.p[2][i] - a.p[1][i];
         pvs__sv_cross(u[0], u[1], n);
@@ -2085,7 +2085,7 @@ static void test_portal_kernels(void) {
         pvs__sv_cross(e[0], e[1], n);
         {
             pvs__po_wind a = w;
-            pvs__po_clip(&a, pl, eps);
+            pvs__po_clip(&a, pl, eps, 0.0);
             for (m = 0; m < 64; ++m) {
                 double u = test_rnd(&st), v = test_rnd(&st), x[3];
                 if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
