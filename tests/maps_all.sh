@@ -3,23 +3,27 @@
 # openarena-081-maps and its 0.8.5 patch beyond the six of tests/maps.sh, each on about 30 evenly spaced BSP-leaf
 # cells, baked with auto and portal on 2 threads and checked by pvscheck (seed 99): one line a map, then a summary.
 #   sh tests/maps_all.sh OUTDIR
+# Another Quake 3 game's maps (IBSP 46), levels made by other hands: PVS_MAPS_PK3S names its pk3 files, e.g.
+#   PVS_MAPS_PK3S=/usr/share/games/nexuiz/data/data.pk3 sh tests/maps_all.sh OUTDIR   (package nexuiz-data)
 # A map is imported twice by tests/maps.sh: every leaf (to count them), then every N-th (its q3map2 PVS on the same
 # cells). Exits 1 when any bake fails or misses an object, 0 otherwise; 0 with a message when the package is absent.
 set -u
 B=${B:-build}
 out=${1:?usage: sh tests/maps_all.sh OUTDIR}
 DIR=${PVS_MAPS_DIR:-/usr/share/games/openarena/baseoa}
+PK3S=${PVS_MAPS_PK3S:-"$DIR/pak1-maps.pk3 $DIR/pak6-patch085.pk3"}
 SIX=" oa_dm7 ps37ctf oa_dm1 q3dm6ish oa_bases3 kaos2 "
 CELLS=${MAP_CELLS:-30}
 mkdir -p "$out"
 list() { # PK3: its maps' names
   if command -v unzip > /dev/null 2>&1; then unzip -Z1 "$1" 2> /dev/null
   else python3 -c "import sys, zipfile; print('\n'.join(zipfile.ZipFile(sys.argv[1]).namelist()))" "$1" 2> /dev/null; fi |
-    sed -n 's,^maps/\(.*\)\.bsp$,\1,p'
+    sed -n 's,^maps/\([^/]*\)\.bsp$,\1,p'
 }
-[ -r "$DIR/pak1-maps.pk3" ] || { echo "maps_all: $DIR/pak1-maps.pk3 not found (apt install openarena-081-maps): skipped"; exit 0; }
+set -- $PK3S
+[ -r "$1" ] || { echo "maps_all: $1 not found (apt install openarena-081-maps, or nexuiz-data): skipped"; exit 0; }
 fail=0; maps=0; misses=0; seen=" "
-for pk in "$DIR/pak1-maps.pk3" "$DIR/pak6-patch085.pk3"; do
+for pk in $PK3S; do
   [ -r "$pk" ] || continue
   for m in $(list "$pk"); do
     case "$SIX$seen" in *" $m "*) continue ;; esac
