@@ -15778,7 +15778,8 @@ PVS__STATIC int pvs__po_put(pvs__po_wind *w, uint32_t *n, const double *x) {
 	return 0;
 }
 
-/* Splits w by pl: dist <= eps to *back, >= -eps to *front (either NULL ok); 1 if vertices lost (> PVS__PO_MAXW). */
+/* Splits w by pl: dist <= eps to *back, >= -eps to *front (either NULL ok), edges cut between dist > eps and < cut;
+   1 if vertices lost (> PVS__PO_MAXW); -1, back unwritten, if no front and w wholly behind. */
 PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, double cut, pvs__po_wind *front,
 		pvs__po_wind *back) {
 	double dist[PVS__PO_MAXW];

@@ -1969,13 +1969,13 @@ static void test_sweep_subcells(void) {
 
 /* PORTAL's fast kernels (>>portal) against their plain forms, here where the implementation is private: the side of
    a polytope to an axial plane from its box (pvs__po_side_box) against the vertex loop (pvs__po_side), and
-   pvs__po_clip at cut 0 (the flow's) against cut -eps (pvs__po_split's back part, the BSP's), on random points snapped to
-   a coarse grid so that ties and points on the plane occur; then separating planes (pvs__po_try_plane, first tested
-   unnormalized): every plane it makes has the first set within eps on its side and the second on the other (checked
-   in long double), and it finds the plane whenever both sets clear it by 4 eps; a box's corners as the first set give
-   the same answer as the box itself (centre and half sizes: the flow's whole-cell source), and a plane found twice is
-   kept once; a polygon's box against a plane (pvs__po_box_clip) answers as pvs__po_clip does; the flow's queue; and
-   its clipped cell boxes kept by plane. */
+   pvs__po_clip at cut 0 (the flow's) against cut -eps (pvs__po_split's back part, the BSP's), on random points
+   snapped to a coarse grid so that ties and points on the plane occur; then separating planes (pvs__po_try_plane,
+   first tested unnormalized): every plane it makes has the first set within eps on its side and the second on the
+   other (checked in long double), and it finds the plane whenever both sets clear it by 4 eps; a box's corners as
+   the first set give the same answer as the box itself (centre and half sizes: the flow's whole-cell source), and a
+   plane found twice is kept once; a polygon's box against a plane (pvs__po_box_clip) answers as pvs__po_clip does;
+   the flow's queue; and its clipped cell boxes kept by plane. */
 /* 1 if polygon a (3 or more corners, turning about n) holds x of its plane: inside each edge within 1e-9 of the
    terms (pvs__sv_cross, pvs__sv_dot: the shadow-volume tree's). */
 static int po_holds(const pvs__po_wind *a, const double n[3], const double x[3]) {
