@@ -340,6 +340,57 @@ static void test_view_runtime(void) {
         }
         free(bytes);
     }
+    /* occluder-only objects block the frame but are never red; see-through ones block nothing: a quad 'a' behind
+       a see-through pane, both behind an occluder wall that hides them from the cell: 0 red pixels */
+    {
+        FILE *fo = fopen(EDIR "/occ.obj", "w");
+        if (fo) {
+            fputs("o a\nv 10 0 -1\nv 10 0 1\nv 10 2 1\nv 10 2 -1\nf 1 2 3 4\n"
+                  "o glass_pane\nv 8 -1 -2\nv 8 -1 2\nv 8 3 2\nv 8 3 -2\nf 5 6 7 8\n"
+                  "o occluder_wall\nv 5 -9 -9\nv 5 -9 9\nv 5 9 9\nv 5 9 -9\nf 9 10 11 12\n", fo);
+            fclose(fo);
+        }
+        fo = fopen(EDIR "/occ.txt", "w");
+        if (fo) {
+            fputs("-0.5 0.5 -0.5 0.5 1.5 0.5\n", fo);
+            fclose(fo);
+        }
+        CHECK(ex_run("./pvsbake -q " EDIR "/occ.obj --cells " EDIR "/occ.txt -o " EDIR "/occ.pvs --method otree", &out) == 0);
+        free(out);
+        CHECK(ex_run("./pvsview " EDIR "/occ.obj " EDIR "/occ.pvs -o " EDIR "/o.png --size 200 --frame 0 1 0 1 0 0", &out) == 0 &&
+              strstr(out, " 0 pixels of objects outside")); free(out);
+        /* the wall behind them and a PVS keeping nothing: the pane and 'a' show red, exit 3 */
+        fo = fopen(EDIR "/occ2.obj", "w");
+        if (fo) {
+            fputs("o a\nv 10 0 -1\nv 10 0 1\nv 10 2 1\nv 10 2 -1\nf 1 2 3 4\n"
+                  "o glass_pane\nv 8 -1 -2\nv 8 -1 2\nv 8 3 2\nv 8 3 -2\nf 5 6 7 8\n"
+                  "o occluder_wall\nv 12 -9 -9\nv 12 -9 9\nv 12 9 9\nv 12 9 -9\nf 9 10 11 12\n", fo);
+            fclose(fo);
+        }
+        {
+            pvs_box cell = {{-0.5f, 0.5f, -0.5f}, {0.5f, 1.5f, 0.5f}};
+            pvs_word none = 0;
+            pvs_file_desc d;
+            size_t need = 0;
+            void *enc = NULL;
+            memset(&d, 0, sizeof(d));
+            d.cells = &cell;
+            d.cell_count = 1;
+            d.object_count = 3;
+            d.pvs = &none;
+            d.method = PVS_METHOD_OTREE;
+            d.up_axis = 1;
+            CHECK(pvs_file_encode(&d, NULL, 0, &need, NULL) == PVS_OK && (enc = malloc(need)) != NULL &&
+                  pvs_file_encode(&d, enc, need, &need, NULL) == PVS_OK);
+            if (enc && (fo = fopen(EDIR "/occ2.pvs", "wb")) != NULL) {
+                fwrite(enc, 1, need, fo);
+                fclose(fo);
+            }
+            free(enc);
+        }
+        CHECK(ex_run("./pvsview " EDIR "/occ2.obj " EDIR "/occ2.pvs -o " EDIR "/o.png --size 200 --frame 0 1 0 1 0 0", &out) == 3 &&
+              !strstr(out, " 0 pixels of objects outside")); free(out);
+    }
     CHECK(ex_run("./pvsview " EDIR "/in.obj " EDIR "/whole.pvs", &out) == 2); free(out);
     CHECK(ex_run("./pvsview " EDIR "/in.obj " EDIR "/whole.pvs -o " EDIR "/v.png --cell 99999", &out) == 1 && strstr(out, "cells")); free(out);
     CHECK(ex_run("./pvsview " EDIR "/in.obj " EDIR "/whole.pvs -o " EDIR "/v.png --cell-at 1e6 0 0", &out) == 1 && strstr(out, "no cell")); free(out);

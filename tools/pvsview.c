@@ -277,7 +277,7 @@ static int draw_map(const view_data *v, const view_options *o, render_image *map
    others red; *red gets the pixels showing objects outside the PVS. 0, or -1 with te set. */
 static int draw_frame(view_data *v, const view_options *o, render_image *fp, uint64_t *red, tool_error *te) {
     const float *frame = o->frame;
-    uint32_t fc = pvs_file_find_cell(&v->f, frame), x, y, i, w = o->map_h * 16 / 9;
+    uint32_t fc = pvs_file_find_cell(&v->f, frame), x, y, i, w = o->map_h * 16 / 9, pass;
     float l = sqrtf(frame[3] * frame[3] + frame[4] * frame[4] + frame[5] * frame[5]);
     render_image ids;
     render_view view;
@@ -305,22 +305,33 @@ static int draw_frame(view_data *v, const view_options *o, render_image *fp, uin
     render_view_init(&view, &cam, fp);
     render_clear(fp, RENDER_RGBA(150, 185, 225, 255));
     render_clear(&ids, RENDER_RGBA(0, 0, 0, 255));
-    for (i = 0; i < v->n; ++i) {
-        int in = pvs_bitset_test(v->bits, i);
-        uint32_t h = i * 2654435761u, first = v->m.objects[i].first_triangle, count = v->m.objects[i].triangle_count;
-        pvs_box ob = pvs_scene_object_box(v->scene, i);
-        uint32_t col = !in ? RENDER_RGBA(255, 0, 0, 255)
-                       : !(ob.max[v->up] - ob.min[v->up] > 0.25f) ? RENDER_RGBA(125, 125, 118, 255)
-                       : RENDER_RGBA(170 + (h >> 27), 165 + ((h >> 22) & 31), 140 + ((h >> 17) & 31), 255);
-        unsigned front = v->m.objects[i].flags & MESH_OBJECT_ONE_SIDED ? RENDER_FRONT_ONLY : 0u; /* as drawn */
-        render_triangles(fp, &view, v->m.positions, v->m.indices, first, count, col, front);
-        /* the same in flat marker colours: which pixels belong to objects outside the PVS */
-        render_triangles(&ids, &view, v->m.positions, v->m.indices, first, count, in ? RENDER_RGBA(0, 0, 255, 255) : RENDER_RGBA(255, 0, 0, 255),
-                         RENDER_UNLIT | front);
+    /* pass 0: what blocks sight (occluders dark, never counted); pass 1, the marker image only: see-through objects
+       outside the PVS over a fresh image of what blocks (they block nothing, so each is seen where nothing opaque
+       hides it) */
+    for (pass = 0; pass < 2; ++pass) {
+        if (pass) render_clear(&ids, RENDER_RGBA(0, 0, 0, 255));
+        for (i = 0; i < v->n; ++i) {
+            int in = pvs_bitset_test(v->bits, i);
+            uint32_t h = i * 2654435761u, first = v->m.objects[i].first_triangle, count = v->m.objects[i].triangle_count;
+            uint32_t fl = v->m.objects[i].flags, marker = fl & MESH_OBJECT_OCCLUDER ? RENDER_RGBA(0, 255, 0, 255)
+                                                        : in ? RENDER_RGBA(0, 0, 255, 255) : RENDER_RGBA(255, 0, 0, 255);
+            pvs_box ob = pvs_scene_object_box(v->scene, i);
+            uint32_t col = fl & MESH_OBJECT_OCCLUDER ? RENDER_RGBA(70, 70, 80, 255)
+                           : !in ? RENDER_RGBA(255, 0, 0, 255)
+                           : !(ob.max[v->up] - ob.min[v->up] > 0.25f) ? RENDER_RGBA(125, 125, 118, 255)
+                           : RENDER_RGBA(170 + (h >> 27), 165 + ((h >> 22) & 31), 140 + ((h >> 17) & 31), 255);
+            unsigned front = fl & MESH_OBJECT_ONE_SIDED ? RENDER_FRONT_ONLY : 0u; /* as drawn */
+            int see = (fl & MESH_OBJECT_SEE_THROUGH) != 0;
+            if (pass && see && in) continue;
+            if (!pass) render_triangles(fp, &view, v->m.positions, v->m.indices, first, count, col, front);
+            /* the same in flat marker colours: which pixels belong to objects outside the PVS */
+            if (see == (int)pass || (pass && !see))
+                render_triangles(&ids, &view, v->m.positions, v->m.indices, first, count, pass && !see ?
+                                 RENDER_RGBA(0, 255, 0, 255) : marker, RENDER_UNLIT | front);
+        }
+        for (y = 0; y < ids.height; ++y)
+            for (x = 0; x < ids.width; ++x) *red += ids.rgba[4 * ((size_t)y * ids.width + x)] == 255;
     }
-    *red = 0;
-    for (y = 0; y < ids.height; ++y)
-        for (x = 0; x < ids.width; ++x) *red += ids.rgba[4 * ((size_t)y * ids.width + x)] == 255;
     render_image_free(&ids);
     render_fill_rect(fp, 0, 0, (int)fp->width - 1, 34, RENDER_RGBA(0, 0, 0, 170));
     snprintf(text, sizeof(text), "from %g %g %g (cell %u, PVS %u objects)", (double)frame[0], (double)frame[1], (double)frame[2], fc,
