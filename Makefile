@@ -16,13 +16,13 @@ LDLIBS  := -lm -lpthread
 # build and the tests' run about a third longer. make CONFIG=sanitize builds the tools with all of it.
 TEST_CFLAGS := -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize=pointer-overflow -fno-sanitize-recover=all
 
-TOOL_LIB := tools/mesh.c tools/bsp.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tools/pvs_impl.c
-TOOL_HDR := pvs.h tools/bsp.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cli.h tools/render.h
+TOOL_LIB := tools/mesh.c tools/bsp.c tools/wad.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tools/pvs_impl.c
+TOOL_HDR := pvs.h tools/bsp.h tools/wad.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cli.h tools/render.h
 TOOL_OBJ := $(patsubst tools/%.c,$(B)/obj/%.o,$(TOOL_LIB))
 TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen $(B)/pvsview $(B)/pvsimport
 TEST_SRC := tests/test_extproj.c tests/test_noalloc.c tests/main.c tests/test_core.c tests/test_format.c tests/test_kdtree.c \
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c \
-            tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tests/test_bsp.c tests/test_portal.c tests/test_seethrough.c tests/test_walkable.c tools/mesh.c tools/bsp.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
+            tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tests/test_bsp.c tests/test_wad.c tests/test_portal.c tests/test_seethrough.c tests/test_walkable.c tools/mesh.c tools/bsp.c tools/wad.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
 .PHONY: all tools test test-neon test-tsan demo bench verify fuzz clean compile-checks readme-check examples cullmap-images lint bench-moc
 all: tools

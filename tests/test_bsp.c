@@ -351,8 +351,11 @@ static void tb_tool(void) {
     free(out);
 }
 
+void test_wad(void); /* test_wad.c: the Doom map reader */
+
 void test_bsp(void) {
     tb_reads();
     tb_errors();
     tb_tool();
+    test_wad();
 }

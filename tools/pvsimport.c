@@ -1,5 +1,7 @@
-/* pvsimport - turn a Quake 3 level (IBSP 46) into a scene, view cells and the level's own PVS. See --help. */
+/* pvsimport - turn a Quake 3 level (IBSP 46) into a scene, view cells and the level's own PVS, or a Doom map (WAD)
+   into a scene and view cells. See --help. */
 #include "bsp.h"
+#include "wad.h"
 #include "cli.h"
 #include <stdlib.h>
 #include <string.h>
@@ -26,13 +28,23 @@ static const char *usage =
     "                    a cell behind all of one leaves it out of its PVS. Without it, all are two-sided\n"
     "  -q, --quiet       no summary\n"
     "  A .pk3 is a zip archive: extract the .bsp first (unzip -p PAK.pk3 maps/NAME.bsp > NAME.bsp).\n"
+    "usage: pvsimport FILE.wad -o OUT.obj [--cells OUT.cells] [--map NAME] [--no-solids] [--cell-step N]\n"
+    "       pvsimport FILE.wad --list\n"
+    "  Reads a Doom map (Doom, Doom II, Freedoom; Doom's binary map format) at its start (doors closed):\n"
+    "  -o OUT.obj        object 'wN' per linedef (its walls), then per sector 'floorN' and 'ceilN' (a sky\n"
+    "                    ceiling: 'occluder_skyN', blocks sight, never drawn), then 'occluder_solids': the\n"
+    "                    solid space (under floors, over ceilings, outside the map) as convex prisms, Y up\n"
+    "  --cells OUT.cells one view cell per subsector of an open sector: its polygon's box, floor to ceiling\n"
+    "  --map NAME        the map (E1M1, MAP01, ...; default: the first); --list prints the WAD's maps\n"
+    "  --no-solids       leave out occluder_solids: the map as drawn surfaces and sky alone\n"
+    "  --cell-step N     keep every N-th cell only\n"
     "exit status: 0 written, 1 bad input or I/O error, 2 usage\n";
 
 typedef struct import_options {
-    const char *bsp, *obj, *cells, *pvs, *shaders;
+    const char *bsp, *obj, *cells, *pvs, *shaders, *map;
     uint32_t patch_level, cell_step;
     double clearance;
-    int quiet;
+    int quiet, list, no_solids;
 } import_options;
 
 static int parse_options(int argc, char **argv, import_options *o) {
@@ -49,6 +61,14 @@ static int parse_options(int argc, char **argv, import_options *o) {
             if (!v) return tool_usage_error(TOOL, "%s needs a file name", a);
             *(a[1] == 'o' ? &o->obj : a[2] == 'c' ? &o->cells : &o->pvs) = v;
             ++i;
+        } else if (!strcmp(a, "--map")) {
+            if (!v || !v[0] || strlen(v) > 8) return tool_usage_error(TOOL, "--map takes a map name of 1 to 8 characters");
+            o->map = v;
+            ++i;
+        } else if (!strcmp(a, "--list")) {
+            o->list = 1;
+        } else if (!strcmp(a, "--no-solids")) {
+            o->no_solids = 1;
         } else if (!strcmp(a, "--shaders")) {
             if (!v) return tool_usage_error(TOOL, "--shaders needs a file name");
             o->shaders = v;
@@ -76,7 +96,7 @@ static int parse_options(int argc, char **argv, import_options *o) {
         }
     }
     if (!o->bsp) return tool_usage_error(TOOL, "missing MAP.bsp");
-    if (!o->obj) return tool_usage_error(TOOL, "missing -o OUT.obj");
+    if (!o->obj && !o->list) return tool_usage_error(TOOL, "missing -o OUT.obj");
     return -1;
 }
 
@@ -84,6 +104,13 @@ static int write_obj(FILE *f, const void *ctx) { return mesh_write_obj((const me
 static int write_cells(FILE *f, const void *ctx) {
     const mesh_cells *c = (const mesh_cells *)ctx;
     fprintf(f, "# pvsimport: %u cells, one per BSP leaf with a cluster, minx miny minz maxx maxy maxz, Y up\n", c->count);
+    return mesh_cells_write(c, f);
+}
+
+static int write_wad_cells(FILE *f, const void *ctx) {
+    const mesh_cells *c = (const mesh_cells *)ctx;
+    fprintf(f, "# pvsimport: %u cells, one per subsector of an open sector, minx miny minz maxx maxy maxz, Y up\n",
+            c->count);
     return mesh_cells_write(c, f);
 }
 
@@ -116,6 +143,41 @@ static int write_pvs(const char *path, const mesh_cells *cells, const bsp_pvs *p
     }
     free(bytes);
     return rc;
+}
+
+/* A Doom map: the scene and its subsector cells (--list: the maps' names). */
+static int import_wad(const import_options *o, const void *data, size_t size) {
+    tool_error err;
+    mesh m;
+    mesh_cells cells;
+    wad_stats st;
+    wad_options wo;
+    int rc;
+    if (o->list) {
+        char names[8192];
+        rc = wad_list_maps(o->bsp, data, size, names, sizeof(names), &err);
+        if (rc < 0) {
+            fprintf(stderr, "%s: %s\n", TOOL, err.message);
+            return 1;
+        }
+        fputs(names, stdout);
+        return 0;
+    }
+    if (o->pvs || o->shaders || o->patch_level)
+        return tool_usage_error(TOOL, "--pvs, --shaders and --patch-level are for a BSP file");
+    wo.cell_step = o->cell_step;
+    wo.no_solids = o->no_solids;
+    rc = wad_parse(o->bsp, data, size, o->map, &wo, &m, &cells, &st, &err);
+    if (!rc) rc = write_stream_atomic(o->obj, write_obj, &m, &err);
+    if (!rc && o->cells) rc = write_stream_atomic(o->cells, write_wad_cells, &cells, &err);
+    if (rc) fprintf(stderr, "%s: %s\n", TOOL, err.message);
+    else if (!o->quiet)
+        fprintf(stderr, "%s: %s %s: %u linedefs (%u wall quads), %u sectors (%u with sky), %u subsectors (%u lost), "
+                "%u solid prisms, %u triangles, %u cells\n", TOOL, o->bsp, st.map, st.linedefs, st.wall_quads, st.sectors,
+                st.sky_sectors, st.subsectors, st.lost_subsectors, st.solids, m.triangle_count, st.cells);
+    mesh_free(&m);
+    mesh_cells_free(&cells);
+    return rc ? 1 : 0;
 }
 
 int main(int argc, char **argv) {
@@ -155,6 +217,17 @@ int main(int argc, char **argv) {
         fprintf(stderr, "%s: %s\n", TOOL, err.message);
         free(scripts);
         return 1;
+    }
+    if (size >= 4 && (!memcmp(data, "IWAD", 4) || !memcmp(data, "PWAD", 4))) {
+        rc = import_wad(&o, data, size);
+        free(data);
+        free(scripts);
+        return rc;
+    }
+    if (o.list || o.map || o.no_solids) {
+        free(data);
+        free(scripts);
+        return tool_usage_error(TOOL, "--map, --list and --no-solids are for a WAD file; %s is not one", o.bsp);
     }
     rc = bsp_parse(o.bsp, data, size, &bo, &m, &cells, o.pvs ? &pvs : NULL, &st, &err);
     free(data);
