@@ -192,7 +192,8 @@ static int check_indices(const wad_map *w) {
         const uint8_t *r = rec(w, M_SSECTORS, i);
         uint32_t c = rd_u16(r), f = rd_u16(r + 2);
         lump = M_SSECTORS;
-        if (c == 0 || f + c > nsg) bad = "seg range end", what = f + c, limit = nsg;
+        if (c == 0) bad = "no segs", limit = 0;
+        else if (f + c > nsg) bad = "seg range end", what = f + c, limit = nsg;
     }
     if (bad) goto fail;
     for (i = 0; i < w->n[M_NODES] && !bad; ++i) {
