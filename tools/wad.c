@@ -14,6 +14,8 @@ static const uint32_t map_sizes[M_COUNT] = {14, 30, 4, 12, 4, 28, 26};
 #define WAD_NONE 0xffffu
 #define WAD_MAXV 64      /* vertices of a subsector polygon; more: the subsector is lost (counted) */
 #define WAD_MAX_DEPTH 256 /* node tree depth; deeper: an error (Doom's are a few dozen deep) */
+#define WAD_CELL_GRID 8.0f /* cell boxes grow out to this grid (Doom maps are drawn on one): 16-bit coordinate
+                              tables in the .pvs file, smaller files, a PVS 0.3% larger on Freedoom's maps */
 #define WAD_LIFT 0.01     /* units a drawn wall or flat stands off the solid it lies on (as bsp.c's BSP_LIFT): the
                              solids stay exact (touching prisms leave no crack) and never hide what is drawn on them */
 
@@ -469,6 +471,10 @@ static int add_cells(const wad_map *w, const wad_polys *pp, uint32_t step, mesh_
         for (k = 1; k < q->n; ++k) {
             box[0] = fminf(box[0], (float)q->p[k][0]), box[3] = fmaxf(box[3], (float)q->p[k][0]);
             box[2] = fminf(box[2], (float)-q->p[k][1]), box[5] = fmaxf(box[5], (float)-q->p[k][1]);
+        }
+        for (k = 0; k < 3; k += 2) {
+            box[k] = WAD_CELL_GRID * floorf(box[k] / WAD_CELL_GRID);
+            box[k + 3] = WAD_CELL_GRID * ceilf(box[k + 3] / WAD_CELL_GRID);
         }
         box[1] = lo, box[4] = hi;
         if (mesh_cells_add(cells, box)) return -1;

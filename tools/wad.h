@@ -7,13 +7,14 @@
      none between two sky ceilings, as Doom draws them), empty when it has none; then per sector "floorN" and
      "ceilN", the convex polygons of its subsectors at its floor and ceiling heights (a sky ceiling is
      "occluder_skyN" instead: it blocks sight, as Doom's sky does, and is never drawn). Walls and flats are
-     two-sided, each 0.01 units off the solid it lies on, toward the open side. A subsector's polygon is its BSP node region (the NODES partitions from the root down) clipped
-     by its segs' lines. Last, "occluder_solids": the solid space as closed convex prisms (blocks sight, never
-     drawn), as the portal method takes it: under each subsector's floor and over its ceiling, and the void (what
-     the segs cut off the node regions) over the map's full height, each 64 units beyond the map's lowest floor
-     and highest ceiling.
+     two-sided, each 0.01 units off the solid it lies on, toward the open side. A subsector's polygon is its BSP
+     node region (the NODES partitions from the root down) clipped by its segs' lines. Last, "occluder_solids":
+     the solid space as closed convex prisms (blocks sight, never drawn), as the portal method takes it: under
+     each subsector's floor and over its ceiling, and the void (what the segs cut off the node regions) over the
+     map's full height, each 64 units beyond the map's lowest floor and highest ceiling.
    - View cells, one per subsector whose sector is open (ceiling above floor): the box of its polygon from its
-     floor to its ceiling, in subsector order.
+     floor to its ceiling, grown out to the 8-unit grid across (the file then stores 16-bit coordinates), in
+     subsector order.
    Doom's coordinates (x, y on the map, z up) turn into the tools' Y-up: (x, y, z) -> (x, z, -y).
 
    The reader trusts nothing in the file: the directory, every lump's size, count and index are checked, and a bad
