@@ -1,4 +1,4 @@
-/* pvs.h - v0.15.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.15.1 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -36,14 +36,10 @@
 	   pvs_file_decode(&file, cell, visible, PVS_BITSET_WORDS(2), &err);
 	   if (pvs_bitset_test(visible, 1)) draw(1);
 
-   WHAT IT DOES NOT DO
-   ===================
-   - No rendering API: it hands you object ids; you draw.
-   - No mesh-file loading: the scene comes from your arrays (tools/ has an OBJ loader).
-   - No threads of its own: a bake is split into tasks for your job system (see Threads).
-   - No file I/O: it works in memory you own.
+   NOT DONE HERE: rendering (you draw the ids), mesh files (your arrays; tools/ reads OBJ), threads (tasks for your
+   job system: Threads), file I/O (memory you own).
 
-   TABLE OF CONTENTS (search for the banner, e.g. ">>kdtree")
+   TABLE OF CONTENTS (search for the banner: ">>kdtree")
    =================
    >>docs       this manual
    >>api        declarations, per module
@@ -51,13 +47,13 @@
    >>scene      scene, object bounds, triangles, explicit occluders
    >>kdtree     kD-tree over boxes: build, sweep, ray cast, point location
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
-   >>otree      occlusion trees: 2D and 2.5D (c-LSS) region visibility, from-point culling
-   >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps; walkable view cells
+   >>otree      occlusion trees: 2D, 2.5D (c-LSS) region visibility, from-point culling
+   >>occluders  occluder synthesis (voxels, floods, erosion); walkable view cells
    >>vocc       virtual occluders (Koltun 2000)
-   >>portal     rooms and portals from closed convex solids, portal flow (method PORTAL)
+   >>portal     rooms, portals from closed convex solids, portal flow
    >>methods    `shrink` (Wonka 2000), `extproj` (Durand 2000), the estimator `sample`
    >>bake       bake driver: tasks, AUTO, resuming, adaptive cells
-   >>format     the .pvs file: writer and validating zero-copy reader
+   >>format     the .pvs file: writer, validating zero-copy reader
    >>runtime    cell look-up and decoding
 
    CONFIGURATION (define before including the implementation)
@@ -81,67 +77,56 @@
    Coordinates. Any right- or left-handed frame; the scene's `up_axis` (1 = Y, the OBJ default, or 2 = Z) is the
    2.5D methods' height axis. Cells are axis-aligned boxes in scene units.
 
-   Conservative. A PVS holds every object visible from any point of its cell, for every eps (smaller: tighter, slower).
-   Except `sample` (ray sampling): an estimate from below, tests' yardstick; its files carry PVS_FILE_APPROXIMATE. One
-   tolerance: OTREE's facade extraction closes cracks and offsets up to eight float epsilons of scene's coordinates
-   between pieces of one wall (T-junctions; about 1 mm at 1 km); openings to see through must be wider.
+   Conservative. A PVS holds every object visible from any point of its cell, for every eps (smaller: tighter, slower),
+   except `sample`'s (ray sampling: an estimate from below; files flagged PVS_FILE_APPROXIMATE). One tolerance: OTREE's
+   facade extraction closes cracks, offsets up to eight float epsilons of the coordinates between pieces of one wall
+   (T-junctions; 1 mm at 1 km); openings to see through must be wider.
 
    Methods. AUTO, the default, intersects the PVSs of the conservative methods that can cull in the scene, cheapest
    first: PORTAL (closed convex meshes bound rooms), OTREE (vertical walls), EXTPROJ with its sweep (§5), SHRINK
-   (closed geometry left after erosion by eps), leaving out those that do not pay on PVS_AUTO_SAMPLE_CELLS cells
-   (README.md, "Choosing a method"; pvs_bake_method_info says why). A named set (pvs_bake_desc.methods) runs in
-   full; VOCC only when named. max_distance, a draw distance, drops objects whose box is farther from every point of
-   the cell (rounded toward keeping). pvs_bake_restore_task resumes a bake.
+   (closed geometry left after erosion by eps), less those that do not pay on PVS_AUTO_SAMPLE_CELLS cells (README.md,
+   "Choosing a method"; pvs_bake_method_info says why). A named set (pvs_bake_desc.methods) runs in full; VOCC only
+   when named. max_distance drops objects farther from every point of the cell (rounded toward keeping).
 
    Adaptive cells (Durand 2000 §6.1). A cell whose PVS holds over adaptive.budget triangles is halved across its
-   longest side, recursively down to adaptive.min_size; each half is baked from its parent's PVS and intersected with it
-   (EXTPROJ also drops the occluders it hides). The file holds leaf cells (pvs_bake_leaf_count) in cell order, each
-   cell's leaves depth first; pvs_bake_cell_pvs gives a whole cell's PVS. Deterministic for any thread count; not with
-   shards, VOCC or resuming.
+   longest side, down to adaptive.min_size; each half baked from its parent's PVS (EXTPROJ also drops the occluders it
+   hides). The file holds leaf cells (pvs_bake_leaf_count), each cell's depth first; pvs_bake_cell_pvs gives a whole
+   cell's. Deterministic for any thread count; not with shards, VOCC or resuming.
 
-   Threads. None started, no global mutable state. A created pvs_scene or pvs_kdtree, an opened pvs_file may be shared.
-   pvs_bake_run_task may run concurrently for distinct tasks (thread-safe allocator, as malloc); output is
-   byte-identical for any order or thread count.
+   Threads. None started, no global mutable state. A created pvs_scene or pvs_kdtree, an opened pvs_file may be shared;
+   pvs_bake_run_task runs concurrently for distinct tasks (thread-safe allocator); output identical for any order.
 
-   Errors. pvs_result: 0 = PVS_OK, negative = error (pvs_result_string); most functions fill an optional `pvs_error *`
-   with code, offending index or byte offset, message. Bad data: a result code, never PVS_ASSERT.
+   Errors. pvs_result: 0 = PVS_OK, negative = error (pvs_result_string); an optional `pvs_error *` gets code, index or
+   byte offset, message. Bad data: a result code, never PVS_ASSERT.
 
-   Trust. pvs_scene_create validates every index, count and coordinate. pvs_file_open is safe on untrusted bytes: it
-   checks every offset, size, count and checksum, never reads outside the buffer; calls on an opened file cannot fail
-   on its content. Sizes are overflow-checked.
+   Trust. pvs_scene_create validates every index, count and coordinate. pvs_file_open is safe on untrusted bytes (every
+   offset, size, count, checksum checked); calls on an opened file cannot fail on its content. Sizes overflow-checked.
 
    Culling. Per frame, from a context allocated once, pvs_raster_cull (3D: depth pyramid), pvs_raster_cull_map (2.5D:
-   cull map) or pvs_otree_cull (occlusion tree) report every object possibly seen on screen past the near plane,
-   whatever the rounding. Depth is reversed (larger is nearer; pvs_raster_set_clip_matrix takes others). A cell's PVS
-   as `candidates` culls inside it.
+   cull map) or pvs_otree_cull (occlusion tree) report every object possibly on screen past the near plane, whatever
+   the rounding. Depth reversed (larger nearer; pvs_raster_set_clip_matrix takes others); a cell's PVS as candidates.
 
-   Virtual occluders (Koltun 2000). A vocc bake also stores a few vertical rectangles per cell (about 50 bytes) from
-   which pvs_vocc_cull rebuilds the PVS on cell entry; --vocc-only keeps only them.
+   Virtual occluders (Koltun 2000). A vocc bake also stores ~50 bytes of vertical rectangles per cell, from which
+   pvs_vocc_cull rebuilds the PVS on cell entry.
 
    MEMORY
    ======
-   Allocates through the desc's allocator: pvs_scene_create (triangles, kD-trees: at most PVS_SCENE_BYTES_PER_TRIANGLE,
-   2.4 KB, per triangle and object); pvs_bake_begin (a bitset per cell, cell_count * object_count / 8 bytes, or
-   PVS_BAKE_COMPACT's coded PVSs; 40 of statistics per cell); pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ:
-   pvs_extproj_task_bytes, 8 MB at 256 pixels, 0.7 GB at 1024 and 64 sweep planes, freed; adaptive cells: a
-   box and a bitset per leaf, kept); pvs_file_encode (~500 bytes per cell plus a bitset); pvs_raster_create
-   (depth map, pyramid, cull map, bins); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and
-   object). Allocate nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_raster_draw,
+   Through the desc's allocator: pvs_scene_create (at most PVS_SCENE_BYTES_PER_TRIANGLE, 2.4 KB, per triangle and
+   object); pvs_bake_begin (a bitset per cell, or PVS_BAKE_COMPACT's coded PVSs; 40 of statistics per cell);
+   pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ: pvs_extproj_task_bytes, 8 MB at 256 pixels, freed; adaptive
+   cells: a box and a bitset per leaf, kept); pvs_file_encode (~500 bytes per cell, a bitset); pvs_raster_create (depth
+   map, pyramid, cull map, bins); pvs_otree_create (~250 bytes per node of its budget, 5 per kD node and object).
+   Allocate nothing: pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_raster_draw,
    pvs_raster_bin, _*_band, pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
 
-   PERFORMANCE
-   ===========
-   `make bench` prints every figure; tests/BENCHMARKS.md says what each measures, with dated results.
+   PERFORMANCE: `make bench`; tests/BENCHMARKS.md (dated). ALGORITHMS: README.md, "Algorithms"; cited where used.
 
-   ALGORITHMS: README.md, "Algorithms", lists the papers; each is cited where implemented.
-
-   FILE FORMAT (version 3; the byte layout, rule by rule with each rule's error code: README.md, "The file")
+   FILE FORMAT (version 3; byte layout, each rule's error code: README.md, "The file")
    ===========
-   The delta-PVS of Durand et al. 2000 (§6.2): key cells store their PVS whole, others what differs from a base cell,
-   chains bounded by K. Little-endian: a 32-byte header, CRC-checked sections: META, CELL (boxes), TREE (look-up; both
-   absent with PVS_FILE_NO_LOOKUP), RECS (each bit arithmetic-coded in a context of base's bits and neighbours), MODL
-   (contexts' probabilities, an object order putting objects seen together side by side); optional SHRD, VOCC, SCNE,
-   NAME. Readers skip unknown tags; pvs_file_open checks every rule in linear time. Version 1, 2: BAD_VERSION, re-bake.
+   Durand 2000 §6.2's delta-PVS: key cells whole, others as changes from a base cell, chains <= K. A 32-byte header,
+   CRC-checked sections: META, CELL (boxes), TREE (look-up; neither with PVS_FILE_NO_LOOKUP), RECS (bits coded in
+   context), MODL (probabilities, object order); optional SHRD, VOCC, SCNE, NAME. pvs_file_open checks every rule in
+   linear time; version 1, 2: BAD_VERSION, re-bake.
 
    HISTORY: at the end (the latest; every release: README.md, "History").
 */
@@ -154,7 +139,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 15
-#define PVS_VERSION_PATCH 0
+#define PVS_VERSION_PATCH 1
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -15593,12 +15578,11 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 /* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids: connected closed
    convex meshes of scene triangles (joined by shared or split vertices: pvs__po_solids; each directed edge matched by
    its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles), not explicit occluder volumes
-   (rays pass them) nor one around all else (a sky box: its inside would be solid). BSP on their face planes
-   (q3map2's BuildTree: fragments split by planes they straddle) ends in leaves in solid or outside all: empty ones are
-   rooms. Planes closer than input's float resolution are one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size):
-   touching solids leave no crack. Portal: empty leaf's face with empty leaf beyond, pushed down tree, split by planes
-   it straddles (Teller 1992 §3.3). Segment between rooms missing all solids crosses portals of leaves it passes, in
-   order. Other triangles block nothing here.
+   (rays pass them) nor one around all else (a sky box). BSP on their face planes (q3map2's BuildTree) ends in leaves
+   in solid or outside all: empty ones are rooms. Planes closer than input's float resolution are one
+   (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size). Portal: empty leaf's face with empty leaf beyond, pushed down
+   tree, split by planes it straddles (Teller 1992 §3.3), both ways (pvs__po_mirror). Segment between rooms missing all
+   solids crosses portals of leaves it passes, in order. Other triangles block nothing here.
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): segment from x in view cell C through portals P1
    .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: lines' source is C_j, C clipped to that
@@ -16316,6 +16300,34 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 	}
 	node &= ~PVS__PO_LEAF;
 	if (p->leaf[node].face_count && node != from) pvs__po_add_portal(b, from, node, plane, w);
+}
+
+/* A -> B and B -> A portals of unequal area (pushed past nearly coincident planes, one side may miss the other's leaf):
+   the smaller side gets the larger's reversed (more lines). Returns portals added. */
+PVS__STATIC size_t pvs__po_mirror(pvs__po_build *b) {
+	pvs__poprep *p = b->p;
+	size_t n = p->portal_count, i, j, added = 0;
+	for (i = 0; i < n && !b->oom; ++i) {
+		double s[2] = {0.0, 0.0}, c[3], x[3], y[3];
+		uint32_t e[2] = {p->portals[i].from, p->portals[i].to}, d, k, a;
+		const pvs__po_portal *q;
+		for (d = 0; d < 2; ++d)
+			for (j = p->lp_first[e[d]]; j < p->lp_first[e[d] + 1]; ++j)
+				for (q = p->portals + p->lp[j], k = 1; q->to == e[!d] && k + 1 < q->n; ++k) {
+					const double(*v)[3] = (const double(*)[3])p->portal_v[q->first];
+					PVS__FOR3(a) x[a] = v[k][a] - v[0][a], y[a] = v[k + 1][a] - v[0][a];
+					pvs__sv_cross(x, y, c);
+					s[d] += fabs(pvs__sv_dot(c, p->pl[q->plane]));
+				}
+		if (s[1] < s[0] * (1.0 - 1e-6)) {
+			pvs__po_wind w;
+			q = p->portals + i;
+			for (w.n = q->n, k = 0; k < q->n; ++k) memcpy(w.p[k], p->portal_v[q->first + q->n - 1 - k], sizeof(w.p[0]));
+			pvs__po_add_portal(b, e[1], e[0], q->plane ^ 1u, &w);
+			++added;
+		}
+	}
+	return added;
 }
 
 /* leaf(ctx, l) for every empty leaf l box b meets (within eps), b pushed down from `node`. */
@@ -17065,13 +17077,20 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 			pvs__po_push(&b, &w, q->plane[k], p->root, (uint32_t)i);
 		}
 	}
-	pairs = PVS__ALLOC_N(al, uint32_t, 2 * p->portal_count + 2);
-	if (b.oom || !pairs) goto done;
-	for (i = 0; i < p->portal_count; ++i) {
-		pairs[2 * i] = p->portals[i].from;
-		pairs[2 * i + 1] = (uint32_t)i;
+	for (k = 0; k < 2; ++k) { /* per leaf; again after pvs__po_mirror */
+		pairs = PVS__ALLOC_N(al, uint32_t, 2 * p->portal_count + 2);
+		if (b.oom || !pairs) goto done;
+		for (i = 0; i < p->portal_count; ++i) {
+			pairs[2 * i] = p->portals[i].from;
+			pairs[2 * i + 1] = (uint32_t)i;
+		}
+		if (!pvs__po_csr(al, pairs, p->portal_count, (uint32_t)p->leaf_count, &p->lp_first, &p->lp)) goto done;
+		i = p->portal_count;
+		if (k || !pvs__po_mirror(&b)) break;
+		PVS__FREE_N(al, p->lp_first, p->leaf_count + 1);
+		PVS__FREE_N(al, p->lp, i + 1);
+		PVS__FREE_N(al, pairs, 2 * i + 2);
 	}
-	if (!pvs__po_csr(al, pairs, p->portal_count, (uint32_t)p->leaf_count, &p->lp_first, &p->lp)) goto done;
 	p->ep_first = PVS__ALLOC_N(al, uint32_t, p->portal_count + 1);
 	if (!p->ep_first) goto done;
 	for (p->ep_first[0] = 0, i = 0; i < p->portal_count; ++i) { /* steps counted in 64 bits: <= 2^32 - 1 */
@@ -24587,7 +24606,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.15.0 (2026-12-01) PORTAL: flow budget 2,000,000 clips a cell (was 200,000): 17 of 52 maps up to 39% tighter.
+   0.15.1 (2026-12-01) PORTAL: portals one side of nearly coincident planes misses are mirrored (a Doom map missed).
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

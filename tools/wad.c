@@ -356,7 +356,8 @@ static int add_walls(const wad_map *w, mesh *m, wad_stats *st) {
         char name[24];
         snprintf(name, sizeof(name), "w%u", i);
         if (mesh_begin_object(m, name, 0, 0)) return -1;
-        if (s1 == WAD_NONE) s1 = s2, s2 = WAD_NONE;
+        int front = 1; /* the side s1 is on: 1 front (right), -1 back (a line with a back side only) */
+        if (s1 == WAD_NONE) s1 = s2, s2 = WAD_NONE, front = -1;
         if (s1 == WAD_NONE) continue;
         {
             uint32_t f = rd_u16(rec(w, M_SIDEDEFS, s1) + 28);
@@ -364,7 +365,7 @@ static int add_walls(const wad_map *w, mesh *m, wad_stats *st) {
             double ff = rd_i16(fs), fc = rd_i16(fs + 2);
             if (s2 == WAD_NONE) {
                 if (fc > ff) {
-                    if (add_wall(m, a, b, ff, fc, 1)) return -1;
+                    if (add_wall(m, a, b, ff, fc, front)) return -1;
                     ++st->wall_quads;
                 }
             } else {
