@@ -36,7 +36,7 @@ for wad in freedoom1 freedoom2 freedm; do
          "$B/pvsinfo" --raw "$out/$name.portal.pvs" "$out/p.raw" > /dev/null 2>&1 && cmp -s "$out/a.raw" "$out/p.raw"; then
         line="$line portal the same;"; continue # auto ran portal alone: checked above
       fi
-      c=$("$B/pvscheck" -q -j 2 --seed 99 "$out/$name.obj" "$out/$name.$method.pvs" 2> /dev/null | tail -1)
+      c=$("$B/pvscheck" -q -j 2 --seed 99 "$out/$name.obj" "$out/$name.$method.pvs" 2> /dev/null | grep "^cells" | tail -1)
       k=$(echo "$c" | sed -n 's/.*misses \([0-9]*\).*/\1/p'); k=${k:-1}
       p=$(echo "$c" | sed -n 's/.*mean pvs \([0-9.]*\).*/\1/p')
       t=$(echo "$c" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p')

@@ -40,7 +40,7 @@ for pk in $PK3S; do
            --method "$method" > /dev/null 2>&1; then
         line="$line $method bake failed FAIL"; fail=1; continue
       fi
-      c=$("$B/pvscheck" -q -j 2 --seed 99 "$out/$m.obj" "$out/$m.$method.pvs" 2> /dev/null | tail -1)
+      c=$("$B/pvscheck" -q -j 2 --seed 99 "$out/$m.obj" "$out/$m.$method.pvs" 2> /dev/null | grep "^cells" | tail -1)
       k=$(echo "$c" | sed -n 's/.*misses \([0-9]*\).*/\1/p'); k=${k:-1}
       p=$(echo "$c" | sed -n 's/.*mean pvs \([0-9.]*\).*/\1/p')
       t=$(echo "$c" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p')
