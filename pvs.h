@@ -45,7 +45,7 @@
    >>api        declarations, per module
    >>core       result codes, allocator hooks, math, bitsets
    >>scene      scene, object bounds, triangles, explicit occluders
-   >>kdtree     kD-tree over boxes: build, sweep, ray cast, point location
+   >>kdtree     kD-tree over boxes: build, sweep, rays, point location
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
    >>otree      occlusion trees: 2D, 2.5D (c-LSS) region visibility, from-point culling
    >>occluders  occluder synthesis (voxels, floods, erosion); walkable view cells
@@ -74,7 +74,7 @@
 
    CONCEPTS
    ========
-   Coordinates. Any right- or left-handed frame; the scene's `up_axis` (1 = Y, the OBJ default, or 2 = Z) is the
+   Coordinates. Any right- or left-handed frame; the scene's `up_axis` (1 = Y, OBJ's default, or 2 = Z) is the
    2.5D methods' height axis. Cells are axis-aligned boxes in scene units.
 
    Conservative. A PVS holds every object visible from any point of its cell, for every eps (smaller: tighter, slower),
@@ -106,8 +106,8 @@
    cull map) or pvs_otree_cull (occlusion tree) report every object possibly on screen past the near plane, whatever
    the rounding. Depth reversed (larger nearer; pvs_raster_set_clip_matrix takes others); a cell's PVS as candidates.
 
-   Virtual occluders (Koltun 2000). A vocc bake also stores ~50 bytes of vertical rectangles per cell, from which
-   pvs_vocc_cull rebuilds the PVS on cell entry.
+   Virtual occluders (Koltun 2000). A vocc bake also stores ~50 bytes of vertical rectangles a cell; pvs_vocc_cull
+   rebuilds the PVS from them.
 
    MEMORY
    ======
@@ -123,10 +123,10 @@
 
    FILE FORMAT (version 3; byte layout, each rule's error code: README.md, "The file")
    ===========
-   Durand 2000 §6.2's delta-PVS: key cells whole, others as changes from a base cell, chains <= K. A 32-byte header,
-   CRC-checked sections: META, CELL (boxes), TREE (look-up; neither with PVS_FILE_NO_LOOKUP), RECS (bits coded in
-   context), MODL (probabilities, object order); optional SHRD, VOCC, SCNE, NAME. pvs_file_open checks every rule in
-   linear time; version 1, 2: BAD_VERSION, re-bake.
+   Durand 2000 §6.2's delta-PVS: key cells whole, others as changes from a base cell, chains <= K. Little-endian; a
+   32-byte header, CRC-checked sections: META, CELL (boxes), TREE (look-up; neither with PVS_FILE_NO_LOOKUP), RECS (bits
+   coded in context), MODL (probabilities, object order); optional SHRD, VOCC, SCNE, NAME; readers skip unknown tags.
+   pvs_file_open checks every rule in linear time; version 1, 2: BAD_VERSION, re-bake.
 
    HISTORY: at the end (the latest; every release: README.md, "History").
 */
@@ -24606,7 +24606,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.15.1 (2026-12-01) PORTAL: portals one side of nearly coincident planes misses are mirrored (a Doom map missed).
+   0.15.1 (2026-12-01) PORTAL: portals missing on one side of nearly coincident planes are mirrored.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

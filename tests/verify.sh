@@ -245,7 +245,7 @@ if [ "${MAPS:-1}" != 0 ]; then
 fi
 # every other OpenArena map, about 30 cells each (ALL_MAPS=1; about 20 minutes): tests/maps_all.sh
 if [ "${ALL_MAPS:-0}" = 1 ]; then sh tests/maps_all.sh "$T/all_maps" || fail=1; fi
-# Freedoom's and FreeDM's 104 Doom maps, about 30 cells each (DOOM_MAPS=1; package freedoom; about 80 minutes)
+# Freedoom's and FreeDM's 100 Doom maps, about 30 cells each (DOOM_MAPS=1; package freedoom; about 100 minutes)
 if [ "${DOOM_MAPS:-0}" = 1 ]; then sh tests/doom_maps.sh "$T/doom_maps" || fail=1; fi
 [ $fail -eq 0 ] && echo "verify: ok" || echo "verify: FAILED"
 exit $fail
