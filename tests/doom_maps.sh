@@ -8,6 +8,7 @@
 # Exits 1 when any import or bake fails or a bake misses an object, 0 otherwise.
 set -u
 B=${B:-build}
+. tests/map_check.sh
 out=${1:?usage: sh tests/doom_maps.sh OUTDIR}
 DIR=${PVS_DOOM_DIR:-/usr/share/games/doom}
 CELLS=${MAP_CELLS:-30}
@@ -36,10 +37,8 @@ for wad in freedoom1 freedoom2 freedm; do
          "$B/pvsinfo" --raw "$out/$name.portal.pvs" "$out/p.raw" > /dev/null 2>&1 && cmp -s "$out/a.raw" "$out/p.raw"; then
         line="$line portal the same;"; continue # auto ran portal alone: checked above
       fi
-      c=$("$B/pvscheck" -q -j 2 --seed 99 "$out/$name.obj" "$out/$name.$method.pvs" 2> /dev/null | grep "^cells" | tail -1)
-      k=$(echo "$c" | sed -n 's/.*misses \([0-9]*\).*/\1/p'); k=${k:-1}
-      p=$(echo "$c" | sed -n 's/.*mean pvs \([0-9.]*\).*/\1/p')
-      t=$(echo "$c" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p')
+      map_check "$out/$name.obj" "$out/$name.$method.pvs"
+      k=$misses_found p=$mean_pvs t=$tightness
       line="$line $method $p (tightness $t), misses $k;"
       misses=$((misses + k))
       [ "$k" -eq 0 ] || fail=1

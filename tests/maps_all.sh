@@ -9,6 +9,7 @@
 # cells). Exits 1 when any bake fails or misses an object, 0 otherwise; 0 with a message when the package is absent.
 set -u
 B=${B:-build}
+. tests/map_check.sh
 out=${1:?usage: sh tests/maps_all.sh OUTDIR}
 DIR=${PVS_MAPS_DIR:-/usr/share/games/openarena/baseoa}
 PK3S=${PVS_MAPS_PK3S:-"$DIR/pak1-maps.pk3 $DIR/pak6-patch085.pk3"}
@@ -40,10 +41,8 @@ for pk in $PK3S; do
            --method "$method" > /dev/null 2>&1; then
         line="$line $method bake failed FAIL"; fail=1; continue
       fi
-      c=$("$B/pvscheck" -q -j 2 --seed 99 "$out/$m.obj" "$out/$m.$method.pvs" 2> /dev/null | grep "^cells" | tail -1)
-      k=$(echo "$c" | sed -n 's/.*misses \([0-9]*\).*/\1/p'); k=${k:-1}
-      p=$(echo "$c" | sed -n 's/.*mean pvs \([0-9.]*\).*/\1/p')
-      t=$(echo "$c" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p')
+      map_check "$out/$m.obj" "$out/$m.$method.pvs"
+      k=$misses_found p=$mean_pvs t=$tightness
       line="$line $method $p ($(awk "BEGIN { if ($q > 0) printf \"%.2f\", ${p:-0} / $q; else printf \"-\" }") of q3map2's $q, tightness $t), misses $k;"
       misses=$((misses + k))
       [ "$k" -eq 0 ] || fail=1
