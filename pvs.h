@@ -161,7 +161,7 @@ extern "C" {
 
 /* ---- core */
 
-/* Fallible calls' result: 0 success, errors < 0. */
+/* Fallible calls' result: 0 success, errors < 0 */
 typedef enum pvs_result {
 	PVS_OK = 0,
 	PVS_ERROR_INVALID_ARGUMENT = -1, /* disallowed NULL, impossible parameter */
@@ -191,7 +191,7 @@ typedef enum pvs_result {
 	PVS_RESULT_MIN = -25 /* sentinel: every result > PVS_RESULT_MIN */
 } pvs_result;
 
-/* Why a call with a last `pvs_error *` (NULL ok) failed. */
+/* Why a call with a last `pvs_error *` (NULL ok) failed */
 typedef struct pvs_error {
 	pvs_result result; /* return value */
 	int64_t index; /* offending object/triangle/vertex/cell/occluder/record, or -1 */
@@ -199,40 +199,40 @@ typedef struct pvs_error {
 	char message[200]; /* NUL-terminated: what, where */
 } pvs_error;
 
-/* Constant English text ("out of memory"), never NULL. */
+/* Constant English text ("out of memory"), never NULL */
 PVS_API const char *pvs_result_string(pvs_result result);
 
-/* Implementation's PVS_VERSION. */
+/* Implementation's PVS_VERSION */
 PVS_API uint32_t pvs_version(void);
 
 /* Allocation hooks: alloc gives `align`-aligned memory (power of 2 <= 64) or NULL; free gets alloc's size. All zero:
-   PVS_MALLOC/PVS_FREE. Objects keep a copy (destroy frees via it; NULL ok). Must be thread-safe for parallel bakes. */
+   PVS_MALLOC/PVS_FREE. Objects keep a copy (destroy frees via it; NULL ok). Must be thread-safe for parallel bakes */
 typedef struct pvs_allocator {
 	void *(*alloc)(size_t size, size_t align, void *user);
 	void (*free)(void *ptr, size_t size, void *user);
 	void *user;
 } pvs_allocator;
 
-/* Axis-aligned box; min == max on an axis (flat) valid. */
+/* Axis-aligned box; min == max on an axis (flat) valid */
 typedef struct pvs_box {
 	float min[3];
 	float max[3];
 } pvs_box;
 
-/* Object bitsets: bit i of word i/64 is object i; PVS_BITSET_WORDS(object_count) words. */
+/* Object bitsets: bit i of word i/64 is object i; PVS_BITSET_WORDS(object_count) words */
 typedef uint64_t pvs_word;
 #define PVS_BITSET_WORDS(bits) (((size_t)(bits) + 63u) / 64u)
-/* Test (1 if set), set, clear bit i; no bounds check. */
+/* Test (1 if set), set, clear bit i; no bounds check */
 PVS_API int pvs_bitset_test(const pvs_word *bits, uint32_t i);
 PVS_API void pvs_bitset_set(pvs_word *bits, uint32_t i);
 PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i);
-/* Set bits among first `bit_count`. */
+/* Set bits among first `bit_count` */
 PVS_API uint32_t pvs_bitset_count(const pvs_word *bits, uint32_t bit_count);
-/* First set bit >= `from`, or `bit_count`: for (i = next(b,n,0); i < n; i = next(b,n,i+1)). */
+/* First set bit >= `from`, or `bit_count`: for (i = next(b,n,0); i < n; i = next(b,n,i+1)) */
 PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint32_t from);
 #define PVS_NO_OBJECT 0xffffffffu /* no object: triangle in none, name not found */
 
-/* kD-tree over boxes (>>kdtree); runtime pvs_vocc_cull takes one (NULL under PVS_RUNTIME_ONLY). */
+/* kD-tree over boxes (>>kdtree); runtime pvs_vocc_cull takes one (NULL under PVS_RUNTIME_ONLY) */
 typedef struct pvs_kdtree pvs_kdtree;
 
 #ifndef PVS_RUNTIME_ONLY /* bake's modules, up to >>vocc's run-time part */
@@ -240,21 +240,21 @@ typedef struct pvs_kdtree pvs_kdtree;
 
 #define PVS_OBJECT_OCCLUDER_ONLY 1u /* blocks sight; never drawn, in no PVS */
 /* Drawn, in PVSs, never blocks sight (any method, ray sampling, per-frame culling): glass, foliage, grates, doors (bake
-   doors open; per frame, pass closed doors' triangles as occluders). */
+   doors open; per frame, pass closed doors' triangles as occluders) */
 #define PVS_OBJECT_SEE_THROUGH 2u
 /* Drawn front only (back faces culled; front: counter-clockwise, (b - a) x (c - a) toward eye): left out where all of a
    cell lies behind each triangle's plane; samples count front hits. Blocks sight both ways, as any opaque object: flag
-   surfaces of closed geometry (Quake 3's brush faces). */
+   surfaces of closed geometry (Quake 3's brush faces) */
 #define PVS_OBJECT_ONE_SIDED 4u
 
-/* Object, unit of visibility: triangle range disjoint from others'; triangles in none only block sight. */
+/* Object, unit of visibility: triangle range disjoint from others'; triangles in none only block sight */
 typedef struct pvs_object_desc {
 	uint32_t first_triangle;
 	uint32_t triangle_count;
 	uint32_t flags; /* PVS_OBJECT_* */
 } pvs_object_desc;
 
-/* Explicit occluder volume kinds (known solid). */
+/* Explicit occluder volume kinds (known solid) */
 typedef enum pvs_occluder_kind {
 	PVS_OCCLUDER_INVALID = 0,
 	PVS_OCCLUDER_BOX, /* `box` */
@@ -263,7 +263,7 @@ typedef enum pvs_occluder_kind {
 	PVS_OCCLUDER_KIND_COUNT
 } pvs_occluder_kind;
 
-/* Explicit occluder volume; pvs_scene_create copies arrays. */
+/* Explicit occluder volume; pvs_scene_create copies arrays */
 typedef struct pvs_occluder_desc {
 	pvs_occluder_kind kind;
 	pvs_box box; /* BOX: volume */
@@ -278,7 +278,7 @@ typedef struct pvs_occluder_desc {
 
 #define PVS_SCENE_ALLOW_EMPTY_OBJECTS 1u /* keep objects with no (or only zero-area) triangles: never visible */
 
-/* Zero fields: defaults. Ground (u, v): (x, z) for up_axis 1, (x, y) for 2. */
+/* Zero fields: defaults. Ground (u, v): (x, z) for up_axis 1, (x, y) for 2 */
 typedef struct pvs_scene_desc {
 	const float *positions; /* vertex_count x (x, y, z) */
 	uint32_t vertex_count;
@@ -294,17 +294,17 @@ typedef struct pvs_scene_desc {
 	pvs_allocator allocator;
 } pvs_scene_desc;
 
-/* Validated scene, its kD-trees; immutable: thread-safe. */
+/* Validated scene, its kD-trees; immutable: thread-safe */
 typedef struct pvs_scene pvs_scene;
 
 /* Copies, validates, builds object bounds, kD-trees. Errors (err->index: element): INVALID_ARGUMENT,
    INDEX_OUT_OF_RANGE, NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT, OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW,
-   OUT_OF_MEMORY. Holds <= these bytes per triangle, per object, 12 per vertex, + _FIXED. */
+   OUT_OF_MEMORY. Holds <= these bytes per triangle, per object, 12 per vertex, + _FIXED */
 #define PVS_SCENE_BYTES_PER_TRIANGLE 2432
 #define PVS_SCENE_BYTES_PER_OBJECT 2400
 #define PVS_SCENE_BYTES_FIXED 16384
 PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out_scene, pvs_error *err);
-/* Frees; NULL ok. */
+/* Frees; NULL ok */
 PVS_API void pvs_scene_destroy(pvs_scene *scene);
 
 PVS_API uint32_t pvs_scene_object_count(const pvs_scene *scene);
@@ -315,11 +315,11 @@ PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene); /* of all triangles an
 PVS_API pvs_box pvs_scene_object_box(const pvs_scene *scene, uint32_t object); /* object < count */
 PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object);
 /* 64-bit FNV-1a of what bake reads: up axis, per object flags and triangle corners, then explicit occluders (kind, box,
-   heights, planes, footprints). Never 0. In pvs_file.scene_fingerprint: spots files baked for other level versions. */
+   heights, planes, footprints). Never 0. In pvs_file.scene_fingerprint: spots files baked for other level versions */
 PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *scene);
-/* Triangle's object, or PVS_NO_OBJECT. */
+/* Triangle's object, or PVS_NO_OBJECT */
 PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t triangle);
-/* Scene's copy of explicit occluder i. */
+/* Scene's copy of explicit occluder i */
 PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *scene, uint32_t i);
 
 typedef struct pvs_hit {
@@ -330,13 +330,13 @@ typedef struct pvs_hit {
 
 /* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), on two-sided triangles: 1 and *hit (NULL ok), or 0.
    Watertight (Woop, Benthin, Wald 2013, in double): no ray slips through shared edges or corners. Zero-area,
-   see-through triangles never hit; ties to lowest triangle. Thread-safe, no allocation. */
+   see-through triangles never hit; ties to lowest triangle. Thread-safe, no allocation */
 PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax,
 		pvs_hit *hit);
-/* 1 if a triangle crosses segment a-b (ends included), 0 if a == b; else as pvs_scene_raycast. */
+/* 1 if a triangle crosses segment a-b (ends included), 0 if a == b; else as pvs_scene_raycast */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
 
-/* View cells from walkable space (pvs_walkable_cells). Zero fields: defaults in metres or scaled by eye_height. */
+/* View cells from walkable space (pvs_walkable_cells). Zero fields: defaults in metres or scaled by eye_height */
 typedef struct pvs_walkable_desc {
 	float cell_size; /* cell's ground side, 0 = 4 (x eye_height / 1.8); floors sampled every cell_size / 4 */
 	float eye_height; /* camera height over floor, 0 = 1.8 */
@@ -356,13 +356,13 @@ typedef struct pvs_walkable_desc {
    height over its lowest floor to eye height over its highest. A seed keeps floors a walk (up a step, or dropping)
    reaches from nearest one <= a step above it. Writes <= `capacity` boxes (cells NULL ok), *count all found.
    Deterministic, thread-safe. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW (> 2^26 sample columns),
-   OUT_OF_MEMORY. */
+   OUT_OF_MEMORY */
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable_desc *desc, pvs_box *cells,
 		uint32_t capacity, uint32_t *count, pvs_error *err);
 
 /* ---- kdtree */
 
-/* pvs_kdtree (see core): binned SAH, items in each leaf they meet. Immutable, thread-safe. */
+/* pvs_kdtree (see core): binned SAH, items in each leaf they meet. Immutable, thread-safe */
 typedef struct pvs_kdtree_desc {
 	const pvs_box *boxes; /* count item boxes; item i is box i */
 	uint32_t count;
@@ -372,23 +372,23 @@ typedef struct pvs_kdtree_desc {
 } pvs_kdtree_desc;
 #define PVS_KDTREE_MAX_DEPTH 48
 /* Memory bounds per box, any boxes: item references (4 bytes each), nodes (8 bytes each), build bytes (plus
-   _BUILD_BYTES_FIXED). Boxes overlapping everywhere get bigger leaves, not more memory. */
+   _BUILD_BYTES_FIXED). Boxes overlapping everywhere get bigger leaves, not more memory */
 #define PVS_KDTREE_MAX_REFS_PER_BOX 64
 #define PVS_KDTREE_MAX_NODES_PER_BOX 32
 #define PVS_KDTREE_BUILD_BYTES_PER_BOX 2336
 #define PVS_KDTREE_BUILD_BYTES_FIXED 4096
 
 /* Deterministic. Skips boxes with min > max; count 0: empty tree. Errors: INVALID_ARGUMENT, NOT_FINITE (err->index =
-   box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
+   box), COUNT_OVERFLOW, OUT_OF_MEMORY */
 PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out_tree, pvs_error *err);
-/* Frees; NULL ok. */
+/* Frees; NULL ok */
 PVS_API void pvs_kdtree_destroy(pvs_kdtree *tree);
-/* Union of non-empty item boxes, or empty box (min > max). */
+/* Union of non-empty item boxes, or empty box (min > max) */
 PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *tree);
-/* Nodes, inner and leaves; >= 1. */
+/* Nodes, inner and leaves; >= 1 */
 PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
 
-/* Sweep visitor's answer. */
+/* Sweep visitor's answer */
 typedef enum pvs_visit {
 	PVS_VISIT_DESCEND = 0, /* visit children */
 	PVS_VISIT_SKIP, /* cull subtree */
@@ -399,28 +399,28 @@ typedef enum pvs_visit {
 
 /* Per node reached, by increasing `distance` from source box (0 where they meet); `node_box`: bounds cut by splits
    above. Leaves pass their items (each once per leaf holding it), others NULL, 0. After PVS_VISIT_ALL, non-empty leaves
-   below come at once, depth first, distance -1, before sweep goes on. */
+   below come at once, depth first, distance -1, before sweep goes on */
 typedef pvs_visit (*pvs_kdtree_visit_fn)(void *user, const pvs_box *node_box, float distance,
 		const uint32_t *items, uint32_t item_count);
 
-/* Scratch bytes pvs_kdtree_sweep needs: 32 per leaf ((node_count + 1) / 2). */
+/* Scratch bytes pvs_kdtree_sweep needs: 32 per leaf ((node_count + 1) / 2) */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *tree);
 /* Approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from box `source` (a point: min == max), by
    priority queue on min distance, ties by node index. `scratch`: pvs_kdtree_sweep_scratch_size bytes, 8-aligned.
-   Errors: BUFFER_TOO_SMALL, INVALID_ARGUMENT (NULL tree, source or visit), NOT_FINITE (source). No allocation. */
+   Errors: BUFFER_TOO_SMALL, INVALID_ARGUMENT (NULL tree, source or visit), NOT_FINITE (source). No allocation */
 PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *source, void *scratch, size_t scratch_size,
 		pvs_kdtree_visit_fn visit, void *user);
 
 /* Per non-empty leaf a ray passes, nearest first; [t_enter, t_exit] widened by relative 1e-7. Return smaller tmax to
-   shorten ray (larger ignored), < 0 to stop. */
+   shorten ray (larger ignored), < 0 to stop */
 typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t item_count, float t_enter, float t_exit);
 /* Walks leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components (not all 3),
-   origin anywhere; non-finite input: no leaves. Thread-safe, no allocation. */
+   origin anywhere; non-finite input: no leaves. Thread-safe, no allocation */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
 		pvs_kdtree_ray_fn fn, void *user);
 
 /* Items of p's leaf: all whose box contains p (also on a split plane), maybe more; NULL, *count = 0 outside bounds or
-   in empty leaf. No allocation. */
+   in empty leaf. No allocation */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
 
 /* ---- raster */
@@ -428,17 +428,17 @@ PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const floa
 /* Depth (reversed Z): z_clip / w_clip, LARGER IS NEARER. pvs_camera_matrix maps near plane to 1, infinity to 0
    (orthographic: 1 at near, linear, negative past `far`). Clipping keeps z_clip <= w_clip, w_clip > 0; no far clipping.
    Pixel (i, j) covers [i, i+1] x [j, j+1] for x = (x_ndc + 1) / 2 * width, y likewise (row 0 at y_ndc = -1), and holds
-   nearest depth drawn, else PVS_DEPTH_EMPTY. */
+   nearest depth drawn, else PVS_DEPTH_EMPTY */
 #define PVS_DEPTH_EMPTY (-3.402823466e+38f)
 
-/* Rasterization (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union). */
+/* Rasterization (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union) */
 typedef enum pvs_raster_mode {
 	PVS_RASTER_OCCLUDER = 0, /* pixels wholly covered, at most triangle's farthest there */
 	PVS_RASTER_OCCLUDEE, /* pixels touched, at least triangle's nearest there */
 	PVS_RASTER_MODE_COUNT
 } pvs_raster_mode;
 
-/* `forward`, `up` need not be unit or orthogonal (up is orthogonalized); image x = forward x up. */
+/* `forward`, `up` need not be unit or orthogonal (up is orthogonalized); image x = forward x up */
 typedef struct pvs_camera {
 	float eye[3];
 	float forward[3];
@@ -450,20 +450,20 @@ typedef struct pvs_camera {
 } pvs_camera;
 
 /* Row-major clip matrix (clip = m * (x, y, z, 1), m[4 * row + col]) for aspect width / height; perspective depth =
-   near / distance along forward. INVALID_ARGUMENT or NOT_FINITE: bad camera. */
+   near / distance along forward. INVALID_ARGUMENT or NOT_FINITE: bad camera */
 PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, float m[16]);
 
 /* Raster flags. Occluders keep depth per pixel (default <= 65,536 pixels) or per 32 x 4 tile as coverage mask and 2
-   depths (Masked Occlusion Culling: several times faster; default above). Both conservative. */
+   depths (Masked Occlusion Culling: several times faster; default above). Both conservative */
 #define PVS_RASTER_SCALAR 1u /* scalar code even with SIMD compiled in (same results) */
 #define PVS_RASTER_PER_PIXEL 2u /* occluders: depth per pixel */
 #define PVS_RASTER_TILED 4u /* occluders to tiles (beats PVS_RASTER_PER_PIXEL) */
 #define PVS_RASTER_SSE2 8u /* not AVX2 twins picked at run time (GCC, Clang, no -mavx2; same results) */
 
-/* Zero fields: defaults. */
+/* Zero fields: defaults */
 typedef struct pvs_raster_desc {
 	uint32_t width, height; /* depth map pixels, 1..16384 each */
-	/* Optional: sizes cull buffers, cull map; pvs_raster_cull* take no larger scene (objects, triangles, kD nodes). */
+	/* Optional: sizes cull buffers, cull map; pvs_raster_cull* take no larger scene (objects, triangles, kD nodes) */
 	const pvs_scene *scene;
 	uint32_t max_occluders; /* most scene triangles selected per frame, 0 = 1024 */
 	uint32_t cull_map_width; /* cull map cells over scene's ground, 0: none */
@@ -474,31 +474,31 @@ typedef struct pvs_raster_desc {
 	pvs_allocator allocator;
 } pvs_raster_desc;
 
-/* Holds all buffers; no allocation after create. One per thread (see pvs_raster_bin). */
+/* Holds all buffers; no allocation after create. One per thread (see pvs_raster_bin) */
 typedef struct pvs_raster pvs_raster;
 
-/* Errors: INVALID_ARGUMENT (sizes), COUNT_OVERFLOW, OUT_OF_MEMORY. */
+/* Errors: INVALID_ARGUMENT (sizes), COUNT_OVERFLOW, OUT_OF_MEMORY */
 PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **out_raster, pvs_error *err);
-/* Frees via its allocator; NULL ok. */
+/* Frees via its allocator; NULL ok */
 PVS_API void pvs_raster_destroy(pvs_raster *raster);
 
-/* Code run: "avx2", "sse2", "neon" or "scalar" (PVS_RASTER_SCALAR, PVS_NO_SIMD). */
+/* Code run: "avx2", "sse2", "neon" or "scalar" (PVS_RASTER_SCALAR, PVS_NO_SIMD) */
 PVS_API const char *pvs_raster_path(const pvs_raster *raster);
-/* Sets all depth pixels to PVS_DEPTH_EMPTY, empties bins. */
+/* Sets all depth pixels to PVS_DEPTH_EMPTY, empties bins */
 PVS_API void pvs_raster_clear(pvs_raster *raster);
 /* Row-major projection for next draws, box tests: any 4x4 (also off-axis, as Durand 2000's planes shared by a cell).
-   NOT_FINITE: non-finite entry. */
+   NOT_FINITE: non-finite entry */
 PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *raster, const float m[16]);
 /* Engine's clip matrix in its convention, PVS_CLIP_* (0: row-major, z_ndc 1 at near, 0 at far or infinity, as
    pvs_camera_matrix). Depth row becomes w - z (zero-one) or (w - z) / 2 in float; x, y, w stay: screen is engine's. No
-   far clipping. Errors as pvs_raster_set_matrix; INVALID_ARGUMENT: unknown or both depths. */
+   far clipping. Errors as pvs_raster_set_matrix; INVALID_ARGUMENT: unknown or both depths */
 PVS_API pvs_result pvs_raster_set_clip_matrix(pvs_raster *raster, const float m[16], uint32_t flags);
 #define PVS_CLIP_COLUMN_MAJOR 1u /* m[4 * column + row] (OpenGL, glm) */
 #define PVS_CLIP_DEPTH_ZERO_ONE 2u /* z_ndc 0 at near, 1 at far (Direct3D, Vulkan, Metal) */
 #define PVS_CLIP_DEPTH_MINUS_ONE_ONE 4u /* z_ndc -1 at near, 1 at far (OpenGL) */
 /* Draws `count` two-sided triangles (3 floats per vertex; 3 `indices` per triangle, NULL: consecutive), keeping per
    pixel nearer depth (tiles may keep a farther one, never one nearer than nearest occluder); conservative under
-   rounding. Skips triangles with non-finite coordinate or index >= vertex_count. Errors: pvs_raster_draw. */
+   rounding. Skips triangles with non-finite coordinate or index >= vertex_count. Errors: pvs_raster_draw */
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 		const uint32_t *indices, uint32_t count, pvs_raster_mode mode);
 /* Draws `count` triangles as one occluder (Durand 2000 §3.3: per-triangle inner coverage cracks along shared edges):
@@ -506,10 +506,10 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positio
    boundary edge meets), never nearer than triangles there. Boundary edges (cracks remain): edges not shared by exactly
    2 triangles (by index or position) or between oppositely wound ones, silhouettes, near-plane cuts and edges they
    cut, edges of triangles already hidden (tiled), between pieces of max_mesh_triangles, at open fans of large
-   triangles. Errors as pvs_raster_triangles; SIMD: same. */
+   triangles. Errors as pvs_raster_triangles; SIMD: same */
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 		const uint32_t *indices, uint32_t count);
-/* Draw with Masked Occlusion Culling's per-call options: vertices in caller's struct, back-face culling. */
+/* Draw with Masked Occlusion Culling's per-call options: vertices in caller's struct, back-face culling */
 typedef struct pvs_raster_draw_desc {
 	const float *positions; /* x, y, z first in each vertex (4-byte aligned); NULL only without triangles */
 	uint32_t stride; /* bytes vertex to vertex, multiple of 4, >= 12; 0 = 12 */
@@ -521,11 +521,11 @@ typedef struct pvs_raster_draw_desc {
 } pvs_raster_draw_desc;
 #define PVS_DRAW_MESH 1u /* one occluder, as pvs_raster_mesh */
 /* Occluders: leave out triangles clockwise (counter-clockwise) on screen, x_ndc right, y_ndc up: det(x, y, w) of clip
-   coordinates, exact across near plane too. Leaving out occluders is conservative. */
+   coordinates, exact across near plane too. Leaving out occluders is conservative */
 #define PVS_DRAW_CULL_CW 2u
 #define PVS_DRAW_CULL_CCW 4u
 /* pvs_raster_triangles (PVS_DRAW_MESH: pvs_raster_mesh) with those options. INVALID_ARGUMENT: NULL raster or draw, NULL
-   positions with triangles, bad stride, mode or flag, both culls, or flags with occludees. */
+   positions with triangles, bad stride, mode or flag, both culls, or flags with occludees */
 PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_desc *draw);
 /* Threads (binning as Masked Occlusion Culling's, Hasselgren, Andersson and Akenine-Moller 2016 §4): a frame's
    occluder draws prefiltered in PVS_RASTER_PARTS parts, then drawn in as many row bands, each on any thread:
@@ -536,38 +536,38 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_des
    Map: pvs_raster_draw's for draws in order, byte for byte. Keep draws, their arrays, matrix until bands drawn. Bins
    and bands may come in rounds (each round's bins after every band of the one before): a round's bins drop triangles
    that earlier rounds' maps hide, so a first round of the nearest occluders (say 1,000) saves later rounds' bands most
-   work. Two threads taking parts and bands from opposite ends keep a band's tiles in one core's cache. */
+   work. Two threads taking parts and bands from opposite ends keep a band's tiles in one core's cache */
 #define PVS_RASTER_PARTS 8
 /* INVALID_ARGUMENT as pvs_raster_draw, and for occludees, PVS_DRAW_MESH, untiled raster or bad part; BUFFER_TOO_SMALL
-   past pvs_raster_desc.bin_triangles. */
+   past pvs_raster_desc.bin_triangles */
 PVS_API pvs_result pvs_raster_bin(pvs_raster *raster, const pvs_raster_draw_desc *draws, uint32_t draw_count,
 		uint32_t part);
-/* Draws band `band` of every part's bins. */
+/* Draws band `band` of every part's bins */
 PVS_API void pvs_raster_draw_band(pvs_raster *raster, const pvs_raster_draw_desc *draws, uint32_t draw_count,
 		uint32_t band);
-/* pvs_raster_clear's work for band `band`: every band before any other call, then as after pvs_raster_clear. */
+/* pvs_raster_clear's work for band `band`: every band before any other call, then as after pvs_raster_clear */
 PVS_API void pvs_raster_clear_band(pvs_raster *raster, uint32_t band);
 /* pvs_raster_build_pyramid's work for band `band` < PVS_RASTER_PARTS; band PVS_RASTER_PARTS, after the others, ends
-   it (makes bands left out, or cleared or drawn since; untiled or with occludees: all of it): the same pyramid. */
+   it (makes bands left out, or cleared or drawn since; untiled or with occludees: all of it): the same pyramid */
 PVS_API void pvs_raster_pyramid_band(pvs_raster *raster, uint32_t band);
-/* Depth map, width * height floats from row 0, valid until next raster call. */
+/* Depth map, width * height floats from row 0, valid until next raster call */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
 
 /* Hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per texel farthest, nearest depth of
-   its 2 x 2 children (tiled: above tiles). Tests build it if map changed. */
+   its 2 x 2 children (tiled: above tiles). Tests build it if map changed */
 PVS_API void pvs_raster_build_pyramid(pvs_raster *raster);
 /* 1 if occludee of nearest depth `depth` may be visible in pixels [x0, x1] x [y0, y1] (inclusive, clamped): some pixel
-   stores depth <= `depth`; 0 if all strictly nearer or rectangle off map. */
+   stores depth <= `depth`; 0 if all strictly nearer or rectangle off map */
 PVS_API int pvs_raster_test_rect(pvs_raster *raster, int32_t x0, int32_t y0, int32_t x1, int32_t y1, float depth);
-/* 1 if box may be visible: before near plane, on screen, not hidden. */
+/* 1 if box may be visible: before near plane, on screen, not hidden */
 PVS_API int pvs_raster_test_box(pvs_raster *raster, const pvs_box *box);
 #define PVS_BOX_OCCLUDED 0 /* on screen, hidden by what was drawn */
 #define PVS_BOX_VISIBLE 1 /* may be visible: pvs_raster_test_box's 1 */
 #define PVS_BOX_VIEW_CULLED 2 /* wholly off screen or behind near plane: no occluder needed */
-/* pvs_raster_test_box telling why a box is not visible: PVS_BOX_*. */
+/* pvs_raster_test_box telling why a box is not visible: PVS_BOX_* */
 PVS_API int pvs_raster_classify_box(pvs_raster *raster, const pvs_box *box);
 
-/* Connected facades (Wonka 1999 §3.1, §4.1): vertical quads on consecutive ground segments (u, v), base to top. */
+/* Connected facades (Wonka 1999 §3.1, §4.1): vertical quads on consecutive ground segments (u, v), base to top */
 typedef struct pvs_facade_chain {
 	const float *points; /* (u, v) each */
 	uint32_t point_count; /* >= 2 */
@@ -580,17 +580,17 @@ typedef struct pvs_facade_chain {
 /* Builds cull map from eye (Wonka & Schmalstieg 1999 §3-4): front-facing facades' occluder shadows drawn top-down on
    ground rectangle, highest per cell, hiding its column below that height (PVS_DEPTH_EMPTY: none). Facades count only
    if base <= min(eye height, scene's lowest point). Skips malformed chains. INVALID_ARGUMENT without scene and cull
-   map, NOT_FINITE (eye). */
+   map, NOT_FINITE (eye) */
 PVS_API pvs_result pvs_cull_map_build(pvs_raster *raster, const float eye[3], const pvs_facade_chain *chains,
 		uint32_t chain_count, uint32_t flags);
 /* Cull map, width * height heights, row-major; cell (i, j) covers u in region[0] + [i, i+1] * (region[2] - region[0]) /
-   width, v likewise. NULL without cull map. */
+   width, v likewise. NULL without cull map */
 PVS_API const float *pvs_cull_map(const pvs_raster *raster, uint32_t *width, uint32_t *height, float region[4]);
-/* 1 if a cell box overlaps holds height <= its top (Wonka 1999 §4.3); outside region: 1. */
+/* 1 if a cell box overlaps holds height <= its top (Wonka 1999 §4.3); outside region: 1 */
 PVS_API int pvs_cull_map_test_box(const pvs_raster *raster, const pvs_box *box);
 
 /* Per-frame culling inputs; all zero: 64 best scene triangles within a tenth of scene (NULL params or
-   PVS_CULL_FRUSTUM_ONLY: frustum cull). */
+   PVS_CULL_FRUSTUM_ONLY: frustum cull) */
 typedef struct pvs_cull_params {
 	const float *occluder_positions; /* caller's occluder triangles: 3 floats per vertex; indices */
 	uint32_t occluder_vertex_count; /*   3 per triangle, or NULL: consecutive vertices */
@@ -606,7 +606,7 @@ typedef struct pvs_cull_params {
 	uint32_t occluder_flags; /* PVS_CULL_* */
 } pvs_cull_params;
 
-/* pvs_raster_cull: occluders as meshes (pvs_raster_mesh: no cracks, some cost per frame). */
+/* pvs_raster_cull: occluders as meshes (pvs_raster_mesh: no cracks, some cost per frame) */
 #define PVS_CULL_OCCLUDER_MESH 1u /* caller's triangles */
 #define PVS_CULL_SCENE_MESH 2u /* selected scene triangles, welded (tighter on many-triangle walls) */
 #define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; default: each a mesh */
@@ -623,19 +623,19 @@ typedef struct pvs_cull_stats {
    sweeps object kD-tree front to back (Bittner 2002 §3.2) skipping hidden subtrees. Sets in `visible`
    (PVS_BITSET_WORDS(object_count) words, cleared first) every object whose box may be seen on screen, never
    occluder-only ones. `stats`: NULL ok. Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (scene larger
-   than context's). */
+   than context's) */
 PVS_API pvs_result pvs_raster_cull(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
 		const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 		pvs_error *err);
 /* 2.5D twin (Wonka 1999): builds cull map from eye with params->facades (and per flag scene's occluders), scans object
    grid by §4.3's two-level bounding-height test, sets every object in frustum not under shadows; orthographic cameras
-   get frustum test only. `scene`: context's. Outputs, errors as pvs_raster_cull. */
+   get frustum test only. `scene`: context's. Outputs, errors as pvs_raster_cull */
 PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
 		const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 		pvs_error *err);
 /* ---- otree */
 
-/* Occlusion trees (Bittner 2002): BSPs over line space built front to back; all float decisions conservative. */
+/* Occlusion trees (Bittner 2002): BSPs over line space built front to back; all float decisions conservative */
 
 typedef struct pvs_otree_stats {
 	uint32_t nodes; /* at end (of largest tree) */
@@ -646,7 +646,7 @@ typedef struct pvs_otree_stats {
 
 #define PVS_SEGMENT_NO_OCCLUSION 1u /* tested but never blocks sight */
 
-/* Exact 2D from-region visibility (Bittner 2002, ch. 6). Zero fields: defaults. */
+/* Exact 2D from-region visibility (Bittner 2002, ch. 6). Zero fields: defaults */
 typedef struct pvs_visibility_2d_desc {
 	const float *cell; /* cell_vertex_count x (x, y): convex, any winding */
 	uint32_t cell_vertex_count; /* >= 3 */
@@ -663,11 +663,11 @@ typedef struct pvs_visibility_2d_desc {
 /* Segments (and objects) seen from cell point along a line crossing no other segment (touching an end point doesn't
    block; segments crossing cell visible): exact, rounding toward visible. visible_segments, visible_objects
    (PVS_BITSET_WORDS of segment_count, object_count; NULL ok, as stats) cleared first. Errors: INVALID_ARGUMENT,
-   NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe; desc->allocator. */
+   NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe; desc->allocator */
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
 		pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err);
 
-/* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v), height. */
+/* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v), height */
 typedef struct pvs_visibility_25d_desc {
 	float cell_min[2], cell_max[2]; /* cell's ground rectangle */
 	float cell_top; /* highest eye height in cell */
@@ -682,17 +682,17 @@ typedef struct pvs_visibility_25d_desc {
 } pvs_visibility_25d_desc;
 
 /* Default 2.5D occlusion tree node budget; once spent, no more facades inserted (conservative), objects still tested.
-   Bounds time per cell with many small facades. */
+   Bounds time per cell with many small facades */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
 /* Fills boxes[facade_count + object_count] for pvs_visibility_25d_desc.tree: facade i is item i, object j item
-   facade_count + j; axes u, v, height to top. Build once for all cells. */
+   facade_count + j; axes u, v, height to top. Build once for all cells */
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
 		uint32_t object_count, pvs_box *boxes);
 
 /* Objects maybe visible from cell (ground rectangle x heights to cell_top), facades reaching below all cells and
    objects; misses none. Ignores facades crossing cell. visible_objects: object bitset, cleared first; stats NULL ok.
-   Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY. Thread-safe; desc->allocator. */
+   Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY. Thread-safe; desc->allocator */
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects,
 		pvs_otree_stats *stats, pvs_error *err);
 
@@ -701,9 +701,9 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
    (§4.10.2's conservative box test, refined at in-leaves by exact "FME" test, Table 4.1) with hierarchy updating
    (§4.11.4): same result as testing each node. Occluders (§4.5): caller's triangles; best `scene_occluders` by
    area-angle among triangles of objects seen within `occluder_distance` last frame (after create, reset: all within
-   it); per `scene_volumes`, BOX faces, EXTRUSION walls within it. */
+   it); per `scene_volumes`, BOX faces, EXTRUSION walls within it */
 typedef struct pvs_otree_desc {
-	/* Required: sizes per-node state; pvs_otree_cull takes no larger scene (objects, triangles, kD nodes). */
+	/* Required: sizes per-node state; pvs_otree_cull takes no larger scene (objects, triangles, kD nodes) */
 	const pvs_scene *scene;
 	float aspect; /* image width / height, 0 = 1 */
 	uint32_t max_occluders; /* scene polygons inserted per frame, 0 = 64; <= 65536 */
@@ -714,10 +714,10 @@ typedef struct pvs_otree_desc {
 #define PVS_OTREE_NO_COHERENCE 1u /* test all reached kD nodes each frame (§4.11.2) */
 #define PVS_OTREE_PLANE_ONLY 2u /* in-leaves test fragment's plane only ("FMC") */
 
-/* Node pool, last frame's kD node states. One per thread. */
+/* Node pool, last frame's kD node states. One per thread */
 typedef struct pvs_otree pvs_otree;
 
-/* Last pvs_otree_cull, beyond pvs_cull_stats. */
+/* Last pvs_otree_cull, beyond pvs_cull_stats */
 typedef struct pvs_otree_frame {
 	uint32_t tree_nodes; /* inner and leaves */
 	uint32_t fragments; /* occluder fragments at in-leaves */
@@ -728,15 +728,15 @@ typedef struct pvs_otree_frame {
 	uint32_t budget_exceeded; /* 1: budget or polygon size stopped insertion */
 } pvs_otree_frame;
 
-/* Errors: INVALID_ARGUMENT, NOT_FINITE (aspect), COUNT_OVERFLOW, OUT_OF_MEMORY. */
+/* Errors: INVALID_ARGUMENT, NOT_FINITE (aspect), COUNT_OVERFLOW, OUT_OF_MEMORY */
 PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out_otree, pvs_error *err);
-/* Frees; NULL ok. */
+/* Frees; NULL ok */
 PVS_API void pvs_otree_destroy(pvs_otree *otree);
-/* Forgets last frame (camera cut). */
+/* Forgets last frame (camera cut) */
 PVS_API void pvs_otree_reset(pvs_otree *otree);
 /* Outputs as pvs_raster_cull (plane tests favour "visible"); `params` NULL ok, facades ignored. Errors:
    INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic), BUFFER_TOO_SMALL (scene larger than context's). No
-   allocation. */
+   allocation */
 PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
 		const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 		pvs_error *err);
@@ -750,7 +750,7 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
    open; a crack or T-junction (edge of odd triangle count) gives no volume on vertical sheet below it; enclosures made
    only by several meshes together are missed. Solids erode by eps (rounding toward less solid) into boxes (3D), column
    heights (2.5D). Leaks: few cells reaching outside box of component holding most cells leave later floods; rest keep
-   their walls (pvs_occluders_excluded_cells). */
+   their walls (pvs_occluders_excluded_cells) */
 typedef struct pvs_occluders_desc {
 	const pvs_scene *scene; /* required; must outlive occluders */
 	const pvs_box *cells; /* required: cell_count >= 1 view cells, flood sources */
@@ -762,10 +762,10 @@ typedef struct pvs_occluders_desc {
 	pvs_allocator allocator;
 } pvs_occluders_desc;
 
-/* Leaking cells seed floods too (a leak then opens walls for all); for bake's 2nd synthesis, of left-out cells. */
+/* Leaking cells seed floods too (a leak then opens walls for all); for bake's 2nd synthesis, of left-out cells */
 #define PVS_OCCLUDERS_KEEP_LEAKS 1u
 
-/* Immutable, thread-safe to read. */
+/* Immutable, thread-safe to read */
 typedef struct pvs_occluders pvs_occluders;
 
 typedef struct pvs_occluders_info {
@@ -797,47 +797,47 @@ typedef struct pvs_occluders_info {
 #define PVS_VOXEL_GROUND 3u /* padding layer below ground */
 
 /* Deterministic; thread-safe for distinct outputs. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or non-finite),
-   BAD_CELL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
+   BAD_CELL, COUNT_OVERFLOW, OUT_OF_MEMORY */
 PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *desc, pvs_occluders **out_occluders, pvs_error *err);
-/* Frees; NULL ok. */
+/* Frees; NULL ok */
 PVS_API void pvs_occluders_destroy(pvs_occluders *occluders);
 PVS_API void pvs_occluders_get_info(const pvs_occluders *occluders, pvs_occluders_info *info);
-/* PVS_VOXEL_* class of voxel (i, j, k) along x, y, z (each < dims). */
+/* PVS_VOXEL_* class of voxel (i, j, k) along x, y, z (each < dims) */
 PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
-/* 1 if voxel (i, j, k) survived erosion. */
+/* 1 if voxel (i, j, k) survived erosion */
 PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
-/* Eroded 3D boxes (*count), owned by occluders; all points within eps of one are solid. */
+/* Eroded 3D boxes (*count), owned by occluders; all points within eps of one are solid */
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
 /* Shrunk 2.5D occluders, facade chains owned by occluders (base ground, top lowered by eps): boundaries of column map's
    regions >= a height, closed, and of their holes, open back to first point. Points within eps of such prisms are
-   unreachable or underground. */
+   unreachable or underground */
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
 /* Column map at ground point (u, v): *solid height below which column is proved solid (else ground); returns shrunk
-   occluder height (else -FLT_MAX). Outside map: ground, -FLT_MAX. On a square's edge lower neighbour counts. */
+   occluder height (else -FLT_MAX). Outside map: ground, -FLT_MAX. On a square's edge lower neighbour counts */
 PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float u, float v, float *solid);
 /* Left-out leaking cells (ascending indices into desc->cells) or NULL, owned by occluders; pvs_shrink_cell sets all
-   objects for boxes inside them. */
+   objects for boxes inside them */
 PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occluders, uint32_t *count);
 
 /* ---- vocc */
 #endif /* PVS_RUNTIME_ONLY */
 
 /* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in real occluders'
-   umbra from whole cell, standing for their aggregate occlusion; 5 bytes each in VOCC section. */
+   umbra from whole cell, standing for their aggregate occlusion; 5 bytes each in VOCC section */
 struct pvs_file; /* >>format */
 
 /* pvs_file.vocc_flags */
 #define PVS_VOCC_STORED 1u /* file has VOCC section */
 #define PVS_VOCC_ONLY 2u /* ... and records are placeholders (all drawable objects): use pvs_vocc_cull */
 
-/* Vertical rectangle over ground segment p0-p1 (u, v as in pvs_scene_desc), `base` to `top`. */
+/* Vertical rectangle over ground segment p0-p1 (u, v as in pvs_scene_desc), `base` to `top` */
 typedef struct pvs_virtual_occluder {
 	float p0[2], p1[2];
 	float base, top;
 } pvs_virtual_occluder;
 
 #ifndef PVS_RUNTIME_ONLY /* construction */
-/* Sums over cells, slices. */
+/* Sums over cells, slices */
 typedef struct pvs_vocc_stats {
 	uint32_t slices; /* height slices (§3.1) */
 	uint32_t seeds; /* seed objects grown (§3) */
@@ -848,7 +848,7 @@ typedef struct pvs_vocc_stats {
 	uint32_t selected; /* kept by greedy selection (Fig. 6) */
 } pvs_vocc_stats;
 
-/* §3's 2D construction alone. Zero fields: defaults. */
+/* §3's 2D construction alone. Zero fields: defaults */
 typedef struct pvs_vocc_2d_desc {
 	float cell_min[2], cell_max[2]; /* view cell: axis-aligned rectangle with area */
 	/* segment_count x (x0, y0, x1, y1): opaque occluders; segments meeting end to end exactly in a ring: wall loop */
@@ -862,39 +862,39 @@ typedef struct pvs_vocc_2d_desc {
 /* Cell's dense set of 2D virtual occluders (§3), each checked exactly hidden from whole cell (rounding up to relative
    1e-9, toward "not hidden"). Writes <= `capacity` (x0, y0, x1, y1) to `occluders` (NULL: count only), *count all
    found. Ignores segments meeting cell; stats NULL ok. Errors: INVALID_ARGUMENT, NOT_FINITE, BAD_CELL, OUT_OF_MEMORY.
-   Thread-safe; desc->allocator. */
+   Thread-safe; desc->allocator */
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, uint32_t capacity, uint32_t *count,
 		pvs_vocc_stats *stats, pvs_error *err);
 #endif /* PVS_RUNTIME_ONLY */
 
 /* 1 if `o` alone hides box from whole cell: every segment between ground rectangles crosses p0-p1, heights holding at
    each crossing fraction t (sight line meets occluder's plane at height (1 - t) eye + t target). Conservative under
-   rounding; 0 for empty box or degenerate occluder. */
+   rounding; 0 for empty box or degenerate occluder */
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
 		const pvs_box *box);
 
-/* Scratch bytes of pvs_vocc_cull* for <= max_occluders (<= 255 per cell in a file) and tree (NULL ok). */
+/* Scratch bytes of pvs_vocc_cull* for <= max_occluders (<= 255 per cell in a file) and tree (NULL ok) */
 PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_occluders);
 
 /* Rebuilds PVS (Koltun 2000 §2, §4): sets in `visible` (object bitset, cleared first) every object with non-empty
    box no single occluder hides (tried in order). With `tree` over same boxes (item i = object i; best with 16+ items a
    leaf) a subtree is skipped if one occluder hides its node box (an object behind several may drop out too: still
    conservative); tree NULL tests every box. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors:
-   INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation; thread-safe. */
+   INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation; thread-safe */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders,
 		uint32_t count, const pvs_box *object_boxes, uint32_t object_count,
 		const pvs_kdtree *tree, void *scratch, size_t scratch_size,
 		pvs_word *visible, pvs_error *err);
 
 /* pvs_vocc_cull_occluders on file's first max_occluders (0 = all) of `cell`, with engine's boxes, tree of baked scene.
-   INVALID_ARGUMENT also without VOCC section. */
+   INVALID_ARGUMENT also without VOCC section */
 PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uint32_t max_occluders,
 		const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
 		void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
 
 /* ---- methods */
 
-/* Region methods (CONCEPTS); all but SAMPLE conservative. 0 = AUTO. */
+/* Region methods (CONCEPTS); all but SAMPLE conservative. 0 = AUTO */
 typedef enum pvs_method {
 	PVS_METHOD_DEFAULT = 0,
 	PVS_METHOD_SAMPLE, /* ray sampling: estimate from below, NOT conservative */
@@ -907,11 +907,11 @@ typedef enum pvs_method {
 	PVS_METHOD_COUNT
 } pvs_method;
 
-/* Method name ("sample"), or "unknown". */
+/* Method name ("sample"), or "unknown" */
 PVS_API const char *pvs_method_name(pvs_method method);
 
 #ifndef PVS_RUNTIME_ONLY /* methods' parameters, bake, encoder */
-/* Shrink method paths. */
+/* Shrink method paths */
 typedef enum pvs_shrink_mode {
 	PVS_SHRINK_AUTO = 0, /* 2.5D if occluders are (pvs_occluders_info.is_2d5), else 3D */
 	PVS_SHRINK_2D5, /* Wonka 2000 §3: column occluders, samples on cell's top, cull maps */
@@ -934,21 +934,21 @@ typedef struct pvs_shrink_stats {
    meeting cell or under its top face stay. Sets bits in `visible` (object bitset, not cleared), never occluder-only
    ones; objects set on entry untested. `occluders`: this scene's; `stats` NULL ok; no occluders is no error. Scratch
    from occluders' allocator, freed on return: thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (path this
-   build cannot run), OUT_OF_MEMORY. */
+   build cannot run), OUT_OF_MEMORY */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
 		pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
 /* Estimator: `points` stratified points in `cell` (corners, face centres, then jittered grid), `rays_per_point` uniform
    directions each; sets in `visible` (object bitset, not cleared; never occluder-only objects) first object each ray
    hits and see-through ones it crosses first (one-sided: front hits). Returns # rays. Lower bound. Deterministic in
-   `seed`; thread-safe, no allocation. */
+   `seed`; thread-safe, no allocation */
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
 		uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
 /* Aimed sampling, better for small, far objects: per object of `targets` (NULL: all) not in `visible`, <=
    `rays_per_object` segments from uniform point of `cell` to uniform point of one of its triangles (pulled 1% toward
    centroid) until one reaches it; each sets first object it hits. Occluder-only objects neither set nor aimed at. Else
-   as pvs_sample_visibility. */
+   as pvs_sample_visibility */
 PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
 		uint32_t rays_per_object, uint64_t seed, pvs_word *visible);
 
@@ -957,7 +957,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 /* Projection plane (Durand 2000 §2.4, §6.1) perpendicular to `axis`, `distance` > 0 beyond cell's face on `side` (+1:
    max, -1: min); Depth (§2.3): distance past that face. rect = (u0, v0, u1, v1) over u = (axis + 1) % 3, v = (axis +
    2) % 3 in width x height pixels (pixel (i, j): u0 + [i, i + 1] * (u1 - u0) / width, v likewise). Depth map: width *
-   height floats, row j first, per pixel nearest occluder Projection's Depth or PVS_EXTPROJ_EMPTY. */
+   height floats, row j first, per pixel nearest occluder Projection's Depth or PVS_EXTPROJ_EMPTY */
 typedef struct pvs_extproj_plane {
 	pvs_box cell;
 	uint32_t axis;
@@ -975,79 +975,79 @@ typedef struct pvs_extproj_plane {
 /* Adds convex occluder's extended Projection (§3.2): `points` (1..16 x (x, y, z)), planar convex polygon or closed
    convex solid (skipped if its box meets cell); clipped to depths > 0, split at plane. Only pixels a part covers from
    every cell point (its views from 8 corners intersected) get min(stored, part's max depth, §2.3). Returns pixel
-   writes per part, 0 if none or bad arguments. Thread-safe on distinct maps; no allocation. */
+   writes per part, 0 if none or bad arguments. Thread-safe on distinct maps; no allocation */
 PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count,
 		float *depth_map);
 
 /* Occludee box's extended Projection (§3.1): bounding rectangle of its views from whole cell as inclusive pixel bounds
    rect = (i0, j0, i1, j1), maybe off map, and its min Depth. 0 if box not wholly beyond face (plane cannot decide it),
-   else 1. No allocation. */
+   else 1. No allocation */
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *box, int32_t rect[4], float *depth);
 
-/* 1 if a pixel of occludee's rect is off map or stores Depth >= depth; 0: hidden (§2.2). */
+/* 1 if a pixel of occludee's rect is off map or stores Depth >= depth; 0: hidden (§2.2) */
 PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_map, const int32_t rect[4],
 		float depth);
 
 /* Bytes EXTPROJ task allocates for planes at `resolution` (0 = 256) and `sweep` planes per direction (0: none;
-   MEMORY), less scratch growing with occluders; 0 outside 16..4096 or past 256 planes. */
+   MEMORY), less scratch growing with occluders; 0 outside 16..4096 or past 256 planes */
 PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
 /* ---- bake */
 
-/* SAMPLE's (pvs_bake_desc.sample). */
+/* SAMPLE's (pvs_bake_desc.sample) */
 typedef struct pvs_bake_sample_params {
 	uint32_t points; /* per cell, 0 = 32 */
 	uint32_t rays; /* per point, 0 = 2048 */
 	uint64_t seed;
 } pvs_bake_sample_params;
 
-/* EXTPROJ's (also under AUTO). */
+/* EXTPROJ's (also under AUTO) */
 typedef struct pvs_bake_extproj_params {
 	/* Pixels per plane side, 16..4096; 0 = PVS_EXTPROJ_RESOLUTION (PREVIEW: _PREVIEW_RESOLUTION). Sweep planes
-	   spread them square over cell and scene's span. */
+	   spread them square over cell and scene's span */
 	uint32_t resolution;
 	uint32_t occluders; /* on planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
 	/* Occlusion sweep (Durand 2000 §5) planes per direction, <= 256, 0 = none; AUTO: 0 = PVS_EXTPROJ_SWEEP_PLANES
 	   (PREVIEW: none), PVS_EXTPROJ_NO_SWEEP = none. Object whose box is not hidden then kept only if some of its
-	   triangles may be seen (over 16,384 triangles: by box). */
+	   triangles may be seen (over 16,384 triangles: by box) */
 	uint32_t sweep;
 	/* With sweep, 4: each plane holds union of umbrae of cell's 4 quarters; objects must be hidden from each (tighter
-	   on foliage, a few times slower); 0 or 1: cell's umbra. */
+	   on foliage, a few times slower); 0 or 1: cell's umbra */
 	uint32_t sweep_subcells;
 } pvs_bake_extproj_params;
 
 /* Adaptive cells (CONCEPTS): split while PVS holds > `budget` triangles and halves are >= `min_size`; leaves low half
-   first. Not with shards. */
+   first. Not with shards */
 typedef struct pvs_bake_adaptive_params {
 	uint32_t budget; /* triangles per leaf cell's PVS, 0 = off */
 	float min_size; /* shortest half, 0 = 1/8 of cell's longest side */
 } pvs_bake_adaptive_params;
 
-/* SHRINK's (also under AUTO). */
+/* SHRINK's (also under AUTO) */
 typedef struct pvs_bake_shrink_params {
 	pvs_shrink_mode mode; /* PVS_SHRINK_AUTO picks */
 	float voxel_size; /* occluder synthesis's, 0 = derived */
 } pvs_bake_shrink_params;
 
-/* VOCC's parameters. */
+/* VOCC's parameters */
 typedef struct pvs_bake_vocc_params {
 	uint32_t slices; /* per cell (§3.1), 0 = 5; 1..16 */
 	uint32_t max_occluders; /* kept per cell (Fig. 6), 0 = 10; 1..255 */
 	uint32_t only; /* 1: store only occluders (PVS_VOCC_ONLY) */
 } pvs_bake_vocc_params;
 
-/* OTREE's (also under AUTO). */
+/* OTREE's (also under AUTO) */
 typedef struct pvs_bake_otree_params {
 	uint32_t node_budget; /* per tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24; more never hides less */
 } pvs_bake_otree_params;
 
-/* PORTAL's (>>portal). */
+/* PORTAL's (>>portal) */
 typedef struct pvs_bake_portal_params {
 	uint32_t budget; /* portal clips per cell before conservative cut-off, 0 = PVS_PORTAL_BUDGET */
 } pvs_bake_portal_params;
 #define PVS_PORTAL_BUDGET 2000000u
 
-/* What to bake. Zero fields (also per method): defaults. */
+/* What to bake. Zero fields (also per method): defaults */
 typedef struct pvs_bake_desc {
 	const pvs_scene *scene; /* must outlive bake */
 	const pvs_box *cells; /* cell_count, copied */
@@ -1056,7 +1056,7 @@ typedef struct pvs_bake_desc {
 	float eps; /* sampling / shrinking distance, 0: from cells */
 	uint32_t max_chain; /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
 	/* Shards, shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into part file; parts
-	   0..shard_count-1 decoded, encoded whole (pvs_file_encode) give unsharded file. */
+	   0..shard_count-1 decoded, encoded whole (pvs_file_encode) give unsharded file */
 	uint32_t shard_index, shard_count;
 	uint32_t methods; /* for AUTO: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC, PORTAL */
 	float max_distance; /* draw distance (CONCEPTS); 0: none */
@@ -1073,19 +1073,19 @@ typedef struct pvs_bake_desc {
 } pvs_bake_desc;
 
 /* AUTO's sample (CONCEPTS, Methods): cells baked with every applicable method; min share of kept PVS a method must cull
-   beyond those kept to run on all cells (x2 per cost class over first kept's). */
+   beyond those kept to run on all cells (x2 per cost class over first kept's) */
 #define PVS_AUTO_SAMPLE_CELLS 8u
 #define PVS_AUTO_MIN_GAIN 0.10
 
 /* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only cheapest applicable method. EXTPROJ: 64 pixels, 32
    occluders per plane unless set, no sweep, object kD-tree nodes decided whole under 1/4 radian or past 4,096 box
-   tests. SHRINK doubles its derived eps. */
+   tests. SHRINK doubles its derived eps */
 #define PVS_BAKE_PREVIEW 1u
 /* PVS_BAKE_COMPACT: finished cells' PVSs kept coded (file's record coding), not in cells x objects bit table: memory
    grows with PVS sizes; also chosen if table would exceed PVS_BAKE_COMPACT_BYTES. Files byte-identical either way;
-   pvs_bake_cell_pvs then decodes into one bake buffer. */
+   pvs_bake_cell_pvs then decodes into one bake buffer */
 #define PVS_BAKE_COMPACT 2u
-/* PVS_BAKE_NO_LOOKUP: PVS_FILE_NO_LOOKUP file; not with VOCC, shards, adaptive cells. */
+/* PVS_BAKE_NO_LOOKUP: PVS_FILE_NO_LOOKUP file; not with VOCC, shards, adaptive cells */
 #define PVS_BAKE_NO_LOOKUP 4u
 #ifndef PVS_BAKE_COMPACT_BYTES
 #define PVS_BAKE_COMPACT_BYTES ((size_t)64 << 20)
@@ -1093,19 +1093,19 @@ typedef struct pvs_bake_desc {
 
 typedef struct pvs_bake pvs_bake;
 
-/* Validates desc, prepares tasks. Errors: INVALID_ARGUMENT, BAD_CELL (err->index = cell), NOT_FINITE, OUT_OF_MEMORY. */
+/* Validates desc, prepares tasks. Errors: INVALID_ARGUMENT, BAD_CELL (err->index = cell), NOT_FINITE, OUT_OF_MEMORY */
 PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out_bake, pvs_error *err);
-/* Tasks: today one per cell of shard. */
+/* Tasks: today one per cell of shard */
 PVS_API uint32_t pvs_bake_task_count(const pvs_bake *bake);
 PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *bake, uint32_t task);
-/* Thread-safe for distinct tasks. */
+/* Thread-safe for distinct tasks */
 PVS_API pvs_result pvs_bake_run_task(pvs_bake *bake, uint32_t task, pvs_error *err);
-/* Resolved method and eps. */
+/* Resolved method and eps */
 PVS_API pvs_method pvs_bake_method(const pvs_bake *bake);
 PVS_API float pvs_bake_eps(const pvs_bake *bake);
-/* Methods considered, in run order, with those AUTO skipped (ran = 0). */
+/* Methods considered, in run order, with those AUTO skipped (ran = 0) */
 PVS_API uint32_t pvs_bake_method_count(const pvs_bake *bake);
-/* What method i did, summed over tasks run (not restored). */
+/* What method i did, summed over tasks run (not restored) */
 typedef struct pvs_bake_method_info {
 	pvs_method method;
 	int ran; /* 1: every task runs it; 0: skipped */
@@ -1113,30 +1113,30 @@ typedef struct pvs_bake_method_info {
 	uint32_t cells; /* tasks that ran it */
 	uint64_t pvs_sum; /* over those cells, PVS sizes it found alone */
 	/* (cell, drawable object) pairs only it left out of intersection; one a later method didn't test (kept_only) counts
-	   for all that culled it. */
+	   for all that culled it */
 	uint64_t sole_culls;
-	/* 1: it tested only what earlier methods kept (AUTO's SHRINK); pvs_sum counts their culls as kept. */
+	/* 1: it tested only what earlier methods kept (AUTO's SHRINK); pvs_sum counts their culls as kept */
 	int kept_only;
 	/* AUTO's sample (sample_cells > 0): objects per sample cell it culled beyond methods kept before it (if skipped:
 	   beyond all kept; 0 cells: too costly to sample) */
 	uint32_t sample_cells;
 	float sample_gain;
 } pvs_bake_method_info;
-/* Fills *info for i < pvs_bake_method_count, else (or NULL) INVALID_ARGUMENT. Not concurrent with pvs_bake_run_task. */
+/* Fills *info for i < pvs_bake_method_count, else (or NULL) INVALID_ARGUMENT. Not concurrent with pvs_bake_run_task */
 PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *bake, uint32_t i, pvs_bake_method_info *info);
-/* 1 if task ran (or restored). */
+/* 1 if task ran (or restored) */
 PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
 /* Resumes: marks task done with its PVS from earlier run with same scene, cells, parameters; `bits`: word_count >=
    PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe as pvs_bake_run_task. Errors: INVALID_ARGUMENT
-   (task out of range, NULL, a bit past objects or of an occluder-only object), BUFFER_TOO_SMALL, UNSUPPORTED (VOCC). */
+   (task out of range, NULL, a bit past objects or of an occluder-only object), BUFFER_TOO_SMALL, UNSUPPORTED (VOCC) */
 PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count,
 		pvs_error *err);
-/* SHRINK (alone or in AUTO): bake's synthesized occluders, tasks' path; NULL / PVS_SHRINK_AUTO if unprepared. */
+/* SHRINK (alone or in AUTO): bake's synthesized occluders, tasks' path; NULL / PVS_SHRINK_AUTO if unprepared */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
 /* Facades OTREE found: merged coplanar vertical triangles, each a wall segment covering heights [base, top] along its
    length. Cell uses facade only toward objects whose bottom, like its own, is >= facade's level (lowest of <= 8
-   base heights >= its base). facades == 0: nothing culled. All zero if unprepared. */
+   base heights >= its base). facades == 0: nothing culled. All zero if unprepared */
 typedef struct pvs_otree_bake_info {
 	uint32_t prepared; /* 1: bake prepared OTREE */
 	uint32_t vertical_triangles; /* vertical scene triangles */
@@ -1146,37 +1146,37 @@ typedef struct pvs_otree_bake_info {
 } pvs_otree_bake_info;
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
 /* What PORTAL built (zeros if unprepared): closed convex solids, distinct face planes, BSP nodes and leaves, empty
-   leaves (rooms), portals between them (each way), leaves left empty at depth limit, cells so far hitting budget. */
+   leaves (rooms), portals between them (each way), leaves left empty at depth limit, cells so far hitting budget */
 typedef struct pvs_portal_info {
 	uint32_t solids, planes, nodes, leaves, rooms, portals, deep_leaves, cut_cells;
 } pvs_portal_info;
 PVS_API void pvs_bake_get_portal_info(const pvs_bake *bake, pvs_portal_info *info);
-/* VOCC bake's statistics over cells baked so far (other methods: zeros). */
+/* VOCC bake's statistics over cells baked so far (other methods: zeros) */
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *bake, pvs_vocc_stats *out);
-/* Over tasks run: culling nothing is no error, but worth reporting. */
+/* Over tasks run: culling nothing is no error, but worth reporting */
 typedef struct pvs_bake_report {
 	uint32_t cells; /* tasks run so far */
 	uint32_t cells_all_visible; /* cells whose PVS is all drawable objects */
 	/* Cells without occluders: SHRINK, none survived erosion (thin walls or eps too large); OTREE, no usable facade;
-	   AUTO, neither and nothing culled. */
+	   AUTO, neither and nothing culled */
 	uint32_t cells_no_occluders;
 	uint32_t cells_excluded; /* SHRINK: leaking cells left out, baked with 2nd synthesis */
 	uint32_t cells_otree_budget; /* OTREE: cells whose tree hit otree.node_budget */
 } pvs_bake_report;
-/* Fills *report. Not concurrent with tasks. */
+/* Fills *report. Not concurrent with tasks */
 PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
 /* Run cell's PVS (object bitset; adaptive: whole cell), else NULL. Compact bakes: valid until next call, which must
-   not run concurrently. */
+   not run concurrently */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
-/* Cells file will hold: cell_count, or adaptive leaves of tasks run so far. */
+/* Cells file will hold: cell_count, or adaptive leaves of tasks run so far */
 PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
-/* Exact file size, 0 before all tasks ran or on error. Encodes to measure: keep it. */
+/* Exact file size, 0 before all tasks ran or on error. Encodes to measure: keep it */
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
 /* Writes file (part file for shard) into out[0..capacity); *out_size gets size, also with BUFFER_TOO_SMALL. Errors:
-   NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
+   NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY */
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t capacity, size_t *out_size,
 		pvs_error *err);
-/* Frees; NULL ok. */
+/* Frees; NULL ok */
 PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
 #endif /* PVS_RUNTIME_ONLY */
@@ -1185,7 +1185,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
 #define PVS_FILE_APPROXIMATE 1u /* file flag: estimated (SAMPLE), not conservative */
 /* File flag: no CELL, TREE, VOCC (engine finds its cells, e.g. BSP leaves): pvs_file_find_cell gives PVS_NO_CELL,
-   pvs_file_cell_box an empty box. Encoder still takes cells (bases: neighbours). */
+   pvs_file_cell_box an empty box. Encoder still takes cells (bases: neighbours) */
 #define PVS_FILE_NO_LOOKUP 2u
 
 #define PVS_DEFAULT_CHAIN 16u	/* default bound K on cell's delta chain */
@@ -1193,13 +1193,13 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
 #ifndef PVS_RUNTIME_ONLY /* encoder */
 /* PVS table to encode: cell_count object bitsets. Encoder (Durand et al. 2000, §6.2) picks bases by depth-bounded
-   minimum spanning tree over nearest neighbours weighted by delta size. */
+   minimum spanning tree over nearest neighbours weighted by delta size */
 typedef struct pvs_file_desc {
 	const pvs_box *cells;
 	uint32_t cell_count;
 	uint32_t object_count;
 	const pvs_word *pvs; /* cell-major */
-	/* Instead of pvs (NULL): cell's PVS, decoded into buffer (words) if need be; gets pvs_user. */
+	/* Instead of pvs (NULL): cell's PVS, decoded into buffer (words) if need be; gets pvs_user */
 	const pvs_word *(*pvs_row)(const void *user, uint32_t cell, pvs_word *buffer);
 	const void *pvs_user;
 	pvs_method method;
@@ -1208,11 +1208,11 @@ typedef struct pvs_file_desc {
 	uint32_t flags; /* PVS_FILE_* */
 	uint32_t max_chain; /* K, most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
 	/* Part file (shard_count >= 2) holds cells shard_index, shard_index + shard_count, ... of total_cell_count, in
-	   order. Zero: whole file. */
+	   order. Zero: whole file */
 	uint32_t shard_index, shard_count, total_cell_count;
 	/* Optional VOCC section (NULL vocc_counts: none): per cell, in table order, vocc_counts[c] 5-byte occluders in
 	   virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step (finite, step > 0);
-	   vocc_flags PVS_VOCC_ONLY for placeholder table. */
+	   vocc_flags PVS_VOCC_ONLY for placeholder table */
 	const uint8_t *vocc_counts, *vocc_scales, *virtual_occluders;
 	uint32_t vocc_stride; /* bytes from cell's occluders to next; 0: back to back */
 	float vocc_base, vocc_height_step;
@@ -1224,13 +1224,13 @@ typedef struct pvs_file_desc {
 
 /* Encodes table into out[0..capacity), deterministically; *out_size gets exact size, also with BUFFER_TOO_SMALL; out ==
    NULL only measures. Scratch from desc->allocator; thread-safe for distinct outputs. Errors: INVALID_ARGUMENT,
-   BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY. */
+   BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size,
 		pvs_error *err);
 #endif /* PVS_RUNTIME_ONLY */
 
 /* Opened file: view of caller's bytes, which must stay alive, unchanged. Plain data, copy freely; read-only to callers,
-   `private_` reader's. */
+   `private_` reader's */
 typedef struct pvs_file {
 	const uint8_t *data;
 	size_t size;
@@ -1269,50 +1269,50 @@ typedef struct pvs_file {
 
 /* Checks every FILE FORMAT rule (linear time, no allocation, no read outside data[0..size)), fills *file. Errors:
    INVALID_ARGUMENT, BAD_MAGIC, BAD_VERSION, TRUNCATED, BAD_HEADER, BAD_SECTION, CHECKSUM, BAD_CELL, BAD_TREE,
-   BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset: byte, err->index: cell or section. */
+   BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset: byte, err->index: cell or section */
 PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, pvs_error *err);
 
-/* How cell's record is stored (pvsinfo prints these). */
+/* How cell's record is stored (pvsinfo prints these) */
 typedef struct pvs_record_info {
 	uint32_t base; /* delta's base cell, PVS_NO_CELL for key cell */
 	uint32_t depth; /* deltas applied to decode it (key cell: 0) */
 	uint32_t bytes; /* record size */
 } pvs_record_info;
-/* Fills *info for cell < cell_count. No allocation. */
+/* Fills *info for cell < cell_count. No allocation */
 PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
 
 /* Cell's virtual occluders, most effective first: returns their count (0 without VOCC), writes <= `capacity`. End
-   points rounded to float; pvs_vocc_cull uses exact ones. */
+   points rounded to float; pvs_vocc_cull uses exact ones */
 PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out,
 		uint32_t capacity);
 
 /* Cell's raw VOCC record: returns its occluder count (0 without VOCC), *bytes their 5 bytes each in file, *scale_code
-   its scale (FILE FORMAT); either output NULL ok. */
+   its scale (FILE FORMAT); either output NULL ok */
 PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
 
 /* ---- runtime */
 
 /* Object's name, NUL-terminated, in file's bytes; NULL without names (NAME) or object >= object_count. No
-   allocation. */
+   allocation */
 PVS_API const char *pvs_file_object_name(const pvs_file *file, uint32_t object);
-/* Lowest object named `name`, or PVS_NO_OBJECT (also without names): linear scan. */
+/* Lowest object named `name`, or PVS_NO_OBJECT (also without names): linear scan */
 PVS_API uint32_t pvs_file_find_object(const pvs_file *file, const char *name);
 
 #define PVS_NO_CELL 0xffffffffu
-/* Lowest cell whose closed box contains p, or PVS_NO_CELL (also non-finite p, PVS_FILE_NO_LOOKUP). No allocation. */
+/* Lowest cell whose closed box contains p, or PVS_NO_CELL (also non-finite p, PVS_FILE_NO_LOOKUP). No allocation */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
-/* Box of cell (< cell_count); with PVS_FILE_NO_LOOKUP empty (min FLT_MAX, max -FLT_MAX). */
+/* Box of cell (< cell_count); with PVS_FILE_NO_LOOKUP empty (min FLT_MAX, max -FLT_MAX) */
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
 /* Decodes cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): chain's key, then
-   <= max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
+   <= max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation */
 PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count,
 		pvs_error *err);
 
-/* Per object whose visibility changes: visible = 1 added, 0 removed. */
+/* Per object whose visibility changes: visible = 1 added, 0 removed */
 typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
 
 /* Follows a viewer, reporting only objects that change (Durand et al. 2000, §6.2): a move to cell whose base is
-   current one applies that delta; others decode into scratch and compare. No allocation. */
+   current one applies that delta; others decode into scratch and compare. No allocation */
 typedef struct pvs_cursor {
 	const pvs_file *file;
 	uint32_t cell; /* PVS_NO_CELL before first move */
@@ -1323,12 +1323,12 @@ typedef struct pvs_cursor {
 } pvs_cursor;
 
 /* Starts empty. bits, scratch: distinct, word_count >= PVS_BITSET_WORDS(object_count) words each. Errors:
-   INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
+   INVALID_ARGUMENT, BUFFER_TOO_SMALL */
 PVS_API pvs_result pvs_cursor_init(pvs_cursor *cursor, const pvs_file *file, pvs_word *bits, pvs_word *scratch,
 		size_t word_count, pvs_error *err);
 /* Moves to `cell` (PVS_NO_CELL empties set), calling on_change (NULL ok) once per object entering or leaving: ascending
    ids after full decode, removals then additions (each ascending) after delta. INVALID_ARGUMENT: cell out of
-   range. */
+   range */
 PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change_fn on_change, void *user);
 
 #ifdef __cplusplus
@@ -1383,7 +1383,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 /* Kernels: errors, checked sizes (pvs__fail, PVS__FAIL, pvs__mul), allocation (pvs__alloc*, PVS__ALLOC_N, PVS__FREE_N),
    growable arrays (pvs__grow*), math, boxes, PVS__FOR3, PVS__ZERO, bitsets, RNG, allocation-free heaps, sorts (big bake
    ones: PVS_QSORT), union-find, little-endian bytes, CRC-32, bake's method table. Elsewhere: pvs__kd_sweep (>>kdtree),
-   pvs__pyramid_level (>>raster). */
+   pvs__pyramid_level (>>raster) */
 
 PVS_API const char *pvs_result_string(pvs_result r) {
 	static const char *const s[] = {
@@ -1427,7 +1427,7 @@ PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index,
 }
 #define PVS__OOM(err, ...) pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, __VA_ARGS__)
 #define PVS__BAD_ARG(err, ...) pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, __VA_ARGS__)
-/* Same, any code, no index or offset; bad section at byte offset `off` (>>format). */
+/* Same, any code, no index or offset; bad section at byte offset `off` (>>format) */
 #define PVS__FAIL(err, code, ...) pvs__fail(err, code, -1, 0, __VA_ARGS__)
 #define PVS__BAD_SECTION(err, off, ...) pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, __VA_ARGS__)
 
@@ -1440,7 +1440,7 @@ PVS__STATIC void pvs__ok(pvs_error *err) {
 	}
 }
 
-/* Overflow-checked size arithmetic: 0 on overflow. */
+/* Overflow-checked size arithmetic: 0 on overflow */
 PVS__STATIC int pvs__mul(size_t a, size_t b, size_t *out) {
 	if (b && a > (size_t)-1 / b) return 0;
 	*out = a * b;
@@ -1452,7 +1452,7 @@ PVS__STATIC int pvs__add(size_t a, size_t b, size_t *out) {
 	return 1;
 }
 
-/* Via desc's hooks; align: power of 2 <= 64. No hooks: align > 16 over-allocates, offset in byte before. */
+/* Via desc's hooks; align: power of 2 <= 64. No hooks: align > 16 over-allocates, offset in byte before */
 PVS__STATIC void *pvs__alloc(const pvs_allocator *a, size_t size, size_t align) {
 	if (size == 0) size = 1;
 	if (a->alloc) return a->alloc(size, align, a->user);
@@ -1481,7 +1481,7 @@ PVS__STATIC void pvs__free(const pvs_allocator *a, void *p, size_t size, size_t 
 	}
 	PVS_FREE((unsigned char *)p - ((unsigned char *)p)[-1]);
 }
-/* n elements of `elem` bytes, overflow-checked, 16-byte aligned. */
+/* n elements of `elem` bytes, overflow-checked, 16-byte aligned */
 PVS__STATIC void *pvs__alloc_array(const pvs_allocator *a, size_t n, size_t elem) {
 	size_t bytes;
 	if (!pvs__mul(n, elem, &bytes)) return NULL;
@@ -1490,11 +1490,11 @@ PVS__STATIC void *pvs__alloc_array(const pvs_allocator *a, size_t n, size_t elem
 PVS__STATIC void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size_t elem) {
 	pvs__free(a, p, n * elem, 16);
 }
-/* Same by type: n elements of T; freeing n of *p's type. */
+/* Same by type: n elements of T; freeing n of *p's type */
 #define PVS__ALLOC_N(a, T, n) ((T *)pvs__alloc_array(a, n, sizeof(T)))
 #define PVS__FREE_N(a, p, n) pvs__free_array(a, p, n, sizeof(*(p)))
-/* Buffers listed once for alloc and free: entry k's *p gets n elements of `size` bytes (pvs__bufs_alloc:
-   goes on past failure, 0 if one failed) or freed (pvs__bufs_free; skips NULL). */
+/* Buffers listed once for alloc and free: entry k's *p gets n `size`-byte elements (pvs__bufs_alloc: goes on past
+   failure, 0: one failed) or freed (pvs__bufs_free; skips NULL) */
 typedef struct pvs__buf {
 	void **p;
 	size_t n, size;
@@ -1510,13 +1510,13 @@ PVS__STATIC void pvs__bufs_free(const pvs_allocator *a, const pvs__buf *b, int k
 	int i;
 	for (i = 0; i < k; ++i) pvs__free_array(a, *b[i].p, b[i].n, b[i].size);
 }
-/* k over 3 axes (x, y, z) or triangle's 3 corners. */
+/* k over 3 axes (x, y, z) or triangle's 3 corners */
 #define PVS__FOR3(k) for (k = 0; k < 3; ++k)
-/* Zeroes object x (variable, *p, member). */
+/* Zeroes object x (variable, *p, member) */
 #define PVS__ZERO(x) memset(&(x), 0, sizeof(x))
 
 /* ---- math (private names: none leak into engine) */
-/* n = (b - a) x (c - a) in double (a triangle's normal, counter-clockwise front); returns |n|. */
+/* n = (b - a) x (c - a) in double (a triangle's normal, counter-clockwise front); returns |n| */
 PVS__STATIC double pvs__tri_cross(const float *a, const float *b, const float *c, double n[3]) {
 	double e1[3], e2[3];
 	int k;
@@ -1577,7 +1577,7 @@ PVS__STATIC int pvs__box_overlap(const pvs_box *a, const pvs_box *b) {
 	return a->min[0] <= b->max[0] && b->min[0] <= a->max[0] && a->min[1] <= b->max[1] && b->min[1] <= a->max[1] &&
 		   a->min[2] <= b->max[2] && b->min[2] <= a->max[2];
 }
-/* Cuts b to `by`; 1 if non-empty (points count). */
+/* Cuts b to `by`; 1 if non-empty (points count) */
 PVS__STATIC int pvs__box_clip(pvs_box *b, const pvs_box *by) {
 	int i;
 	PVS__FOR3(i) {
@@ -1602,7 +1602,7 @@ PVS__STATIC float pvs__box_distance2(const pvs_box *a, const pvs_box *b) {
 	return d2;
 }
 
-/* Float bounds of double from below/above (clamped to finite floats). */
+/* Float bounds of double from below/above (clamped to finite floats) */
 PVS__STATIC float pvs__f_down(double v) {
 	float f;
 	if (!(v > -FLT_MAX)) return -FLT_MAX;
@@ -1693,14 +1693,14 @@ PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint3
 	}
 }
 
-/* splitmix64 (Steele et al. 2014). */
+/* splitmix64 (Steele et al. 2014) */
 PVS__STATIC uint64_t pvs__splitmix64(uint64_t *state) {
 	uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
 	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
 	z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
 	return z ^ (z >> 31);
 }
-/* Uniform in [0, 1). */
+/* Uniform in [0, 1) */
 PVS__STATIC float pvs__random01(uint64_t *state) {
 	return (float)(pvs__splitmix64(state) >> 40) * (1.0f / 16777216.0f);
 }
@@ -1708,7 +1708,7 @@ PVS__STATIC float pvs__random01(uint64_t *state) {
 /* ---- growable arrays */
 
 /* Grows array of `elem`-byte elements to `need` (doubling), keeping first `used`; capped at `limit` if >= need. Returns
-   it; NULL: *r set (old one still caller's). */
+   it; NULL: *r set (old one caller's) */
 PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
 		size_t limit, size_t elem, pvs_result *r) {
 	size_t cap = *capacity ? *capacity : 64, bytes;
@@ -1727,14 +1727,14 @@ PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capa
 	*capacity = cap;
 	return q;
 }
-/* Grows *p so, in place: 0 (*r set) if it fails, *p then unchanged (the caller's to free). */
+/* Grows *p so, in place: 0 (*r set) on failure, *p unchanged (caller's to free) */
 PVS__STATIC int pvs__grow_array(const pvs_allocator *a, void **p, size_t *capacity, size_t used, size_t need,
 		size_t elem, pvs_result *r) {
 	void *q = pvs__grow_capped(a, *p, capacity, used, need, 0, elem, r);
 	if (q) *p = q;
 	return q != NULL;
 }
-/* Same, fully used array (*p, *capacity elements): 1 if it holds `need`, else 0 (*p unchanged). */
+/* Same, fully used array (*p, *capacity elements): 1 if it holds `need`, else 0 (*p kept) */
 PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, size_t need, size_t elem) {
 	pvs_result r;
 	void *q;
@@ -1747,16 +1747,16 @@ PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, si
 
 /* ---- heaps: sort, top-k, allocation-free; 2D hull */
 
-/* qsort order of records led by 2 uint32_t: first, then second. */
+/* qsort order of records led by 2 uint32_t: first, then second */
 PVS__STATIC int pvs__pair_cmp(const void *a, const void *b) {
 	const uint32_t *x = (const uint32_t *)a, *y = (const uint32_t *)b;
 	return x[0] != y[0] ? (x[0] < y[0] ? -1 : 1) : x[1] < y[1] ? -1 : x[1] > y[1];
 }
 
-/* 1 if a ranks before b: sort's order (ascending) or top-k's (best first). */
+/* 1 if a ranks before b: sort's order (ascending) or top-k's (best first) */
 typedef int (*pvs__before_fn)(const void *a, const void *b);
 
-/* Sifts element r of heap h (n of `size` <= 64 bytes) down; root ranks last. */
+/* Sifts element r of heap h (n of `size` <= 64 bytes) down; root ranks last */
 PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t n, pvs__before_fn before) {
 	unsigned char t[64];
 	for (;;) {
@@ -1771,7 +1771,7 @@ PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t 
 	}
 }
 
-/* Heapsort (Williams 1964; no libc) of base[0..n) (`size` <= 64 bytes) by total order `before`: same everywhere. */
+/* Heapsort (Williams 1964; no libc) of base[0..n) (`size` <= 64 bytes) by total order `before`: same everywhere */
 PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)base, t[64];
 	size_t i;
@@ -1786,7 +1786,7 @@ PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_f
 	}
 }
 
-/* Top-k: `heap` holds *count <= k of `size` <= 64 bytes, root ranks last; e enters if not full or before root. */
+/* Top-k: `heap` holds *count <= k of `size` <= 64 bytes, root ranks last; e enters if not full or before root */
 PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e,
 		pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
@@ -1806,8 +1806,8 @@ PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t
 	memcpy(h + i * size, e, size);
 }
 
-/* Priority queue: binary heap of *n of `size` <= 64 bytes, first-ranking at root; pop moves root to *top. Ties: order
-   fixed by pushes. */
+/* Priority queue: binary heap of *n of `size` <= 64 bytes, first-ranking at root; pop moves root to *top. Ties: push
+   order decides */
 PVS__STATIC void pvs__pq_push(void *heap, size_t *n, size_t size, const void *e, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
 	size_t i;
@@ -1830,7 +1830,7 @@ PVS__STATIC void pvs__pq_pop(void *heap, size_t *n, size_t size, void *top, pvs_
 	memcpy(h + i * size, last, size);
 }
 
-/* Union-find: root of x's set, path halving (Tarjan, van Leeuwen 1984). */
+/* Union-find: root of x's set, path halving (Tarjan, van Leeuwen 1984) */
 PVS__STATIC uint32_t pvs__uf_find(uint32_t *parent, uint32_t x) {
 	while (parent[x] != x) {
 		parent[x] = parent[parent[x]];
@@ -1844,7 +1844,7 @@ typedef struct pvs__key_index {
 	uint32_t index;
 } pvs__key_index;
 
-/* (key, index) ascending: total order for non-NaN keys. */
+/* (key, index) ascending: total order for non-NaN keys */
 PVS__STATIC int pvs__key_index_before(const void *pa, const void *pb) {
 	const pvs__key_index *a = (const pvs__key_index *)pa, *b = (const pvs__key_index *)pb;
 	return a->key < b->key || (a->key == b->key && a->index < b->index);
@@ -1866,7 +1866,7 @@ PVS__STATIC double pvs__cross2(const double *o, const double *a, const double *b
 	return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
-/* Convex hull (Andrew's monotone chain), ccw, no collinear points: size, indices in idx; keys: n scratch. */
+/* Convex hull (Andrew's monotone chain), ccw, no collinear points: size, indices in idx; keys: n scratch */
 PVS__STATIC uint32_t pvs__hull2(const double *pts, uint32_t n, pvs__key_index *keys, uint32_t *idx) {
 	uint32_t i, k = 0, t;
 	for (i = 0; i < n; ++i) { keys[i].key = pts[2 * i]; keys[i].index = i; }
@@ -1914,7 +1914,7 @@ PVS__STATIC float pvs__getf32(const uint8_t *p) {
 	return f;
 }
 
-/* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), 2 nibble-table steps per byte. */
+/* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), 2 nibble-table steps per byte */
 PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 	static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
 								   0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
@@ -1933,10 +1933,10 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 /* ---- bake's method table (what >>bake's driver knows) */
 
 /* Method: row of >>bake's pvs__bake_methods, functions of per-bake state. Driver checks all methods' parameters,
-   prepares ones bake may run, keeps culling ones (AUTO), runs each per cell, intersects PVSs. New one: module + row. */
+   prepares those bake may run, keeps culling ones (AUTO), runs each per cell, intersects PVSs. New one: module + row */
 
-/* Method's view of bake: `cells`: all, not just shard's (prepare agrees across shards; caller's, set in prepare only);
-   `task_cells`: shard's, 1 per task. */
+/* Method's view of bake: `cells`: all, not shard's (prepare agrees across shards; caller's, set in prepare only);
+   `task_cells`: shard's, 1 per task */
 typedef struct pvs__bake_env {
 	const pvs_scene *scene;
 	pvs_allocator allocator;
@@ -1951,7 +1951,7 @@ typedef struct pvs__bake_env {
 	int is_auto;	/* 1: AUTO (PVS may be intersected) */
 } pvs__bake_env;
 
-/* Cell run's findings (per task, for pvs_bake_report). */
+/* Cell run's findings (per task, for pvs_bake_report) */
 #define PVS__BAKE_ALL_VISIBLE 1u
 #define PVS__BAKE_NO_OCCLUDERS 2u
 #define PVS__BAKE_EXCLUDED 4u
@@ -1961,39 +1961,39 @@ typedef struct pvs__bake_env {
 #define PVS__METHOD_AUTO_DEFAULT 2u /* AUTO considers it if pvs_bake_desc.methods is 0 */
 #define PVS__METHOD_APPROXIMATE 4u	/* file flagged PVS_FILE_APPROXIMATE */
 #define PVS__METHOD_WHOLE_CELLS 8u	/* alone, stores per-cell data beyond PVSs: no adaptive cells, no resuming */
-#define PVS__METHOD_SETS_OTHERS 16u /* sets every object outside its candidates (kept_only after others) */
+#define PVS__METHOD_SETS_OTHERS 16u /* sets every object outside candidates (kept_only after others) */
 
 typedef struct pvs__bake_method {
 	pvs_method method;
 	uint32_t traits;	/* PVS__METHOD_* */
 	int cost_rank; /* AUTO runs cheapest first (1..4); PREVIEW keeps first that applies */
 	int cost_class; /* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
-	/* Checks its desc parameters, whatever bake runs. NULL: none. */
+	/* Checks desc parameters, whatever bake runs. NULL: none */
 	pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
-	/* Makes *state (read-only in tasks but per-task slots; destroyed even on failure). UNSUPPORTED: cannot run on scene
-	   (AUTO skips it). */
+	/* Makes *state (read-only in tasks but per-task slots; destroyed even on failure). UNSUPPORTED: can't run on scene
+	   (AUTO skips it) */
 	pvs_result (*prepare)(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err);
-	/* 1 if method can cull anything in scene; reason in *why either way. NULL: always. */
+	/* 1 if method can cull anything in scene; reason in *why either way. NULL: always */
 	int (*applies)(const void *state, const char **why);
 	/* PVS of task's box (cell or adaptive part) into `bits`, cleared by caller. `candidates` (NULL ok): what caller
-	   intersects it with (parent PVS, earlier methods): may test only those. Adds PVS__BAKE_* to *flags. Thread-safe
-	   across tasks. */
+	   intersects it with (parent PVS, earlier methods): may test only them. Adds PVS__BAKE_* to *flags. Thread-safe
+	   across tasks */
 	pvs_result (*cell)(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
 			const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err);
-	/* Fills own file sections if bake runs it alone. NULL: none. */
+	/* Fills own file sections if bake runs it alone. NULL: none */
 	void (*file)(const void *state, pvs_file_desc *fd);
-	/* NULL state ok. */
+	/* NULL state ok */
 	void (*destroy)(const pvs__bake_env *env, void *state);
-	/* AUTO's cost class if scene-dependent (state NULL before prepare). NULL: cost_class. */
+	/* AUTO's cost class if scene-dependent (state NULL before prepare). NULL: cost_class */
 	int (*price)(const pvs_bake_desc *desc, const void *state);
 } pvs__bake_method;
 
-/* AUTO's sample cell s (of PVS_AUTO_SAMPLE_CELLS), spread evenly over desc's cells; price may read them too. */
+/* AUTO's sample cell s (of PVS_AUTO_SAMPLE_CELLS), spread evenly over desc's cells; price may read them */
 #define PVS__SAMPLE_CELL(desc, s) \
 	((desc)->cells + ((2 * (uint64_t)(s) + 1) * (desc)->cell_count) / (2 * (uint64_t)PVS_AUTO_SAMPLE_CELLS))
 
 struct pvs_bake;
-/* Method m's state, NULL if not prepared (>>bake). */
+/* Method m's state, NULL if not prepared (>>bake) */
 PVS__STATIC void *pvs__bake_method_state(const struct pvs_bake *b, pvs_method m);
 
 // >>scene
@@ -2022,16 +2022,16 @@ struct pvs_scene {
 	double max_triangle_area; /* for occluder selection's bound */
 };
 
-/* 1 if triangle t blocks sight (in no PVS_OBJECT_SEE_THROUGH object). Every method's occluders pass it. */
+/* 1 if triangle t blocks sight (in no PVS_OBJECT_SEE_THROUGH object). All methods' occluders pass it */
 PVS__STATIC int pvs__tri_blocks(const pvs_scene *s, uint32_t t) {
 	uint32_t o = s->triangle_object[t];
 	return o == PVS_NO_OBJECT || !(s->object_flags[o] & PVS_OBJECT_SEE_THROUGH);
 }
 
-/* Fills s->triangle_corners, empties zero-area triangles' boxes (>>kdtree). */
+/* Fills s->triangle_corners, empties zero-area triangles' boxes (>>kdtree) */
 PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err);
 
-/* Solves 3 planes n_i.p + d_i = 0 in double; 0 if ~parallel. */
+/* Solves 3 planes n_i.p + d_i = 0 in double; 0: ~parallel */
 PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c, double out[3]) {
 	double n1[3], n2[3], n3[3], x[3], det;
 	int i;
@@ -2060,7 +2060,7 @@ PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c
 	return 1;
 }
 
-/* Convex occluder bounds: vertex enumeration in box far past any vertex (vertex on it: unbounded; none: empty). */
+/* Convex occluder bounds: vertex enumeration in box far past any vertex (vertex on it: unbounded; none: empty) */
 PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_box *out, int64_t index,
 		pvs_error *err) {
 	float all[(PVS_MAX_OCCLUDER_PLANES + 6) * 4];
@@ -2132,7 +2132,7 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
 	return PVS_OK;
 }
 
-/* 1 if 2D segments p1-p2, p3-p4 meet or touch (double). */
+/* 1 if 2D segments p1-p2, p3-p4 meet or touch (double) */
 PVS__STATIC int pvs__segments_meet_2d(const float *p1, const float *p2, const float *p3, const float *p4) {
 	double d1x = (double)p2[0] - p1[0], d1y = (double)p2[1] - p1[1];
 	double d2x = (double)p4[0] - p3[0], d2y = (double)p4[1] - p3[1];
@@ -2231,7 +2231,7 @@ PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32
 	}
 }
 
-/* Scene's copies (pvs__buf), listed once for create and destroy. */
+/* Scene's copies (pvs__buf), listed once for create and destroy */
 PVS__STATIC int pvs__scene_bufs(pvs_scene *s, pvs__buf *b) {
 	int k = 0;
 	PVS__BUFT(b, k, s->positions, (size_t)s->vertex_count * 3);
@@ -2259,7 +2259,7 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
 	pvs__free(&a, s, sizeof(*s), 16);
 }
 
-/* pvs_scene_create's checks, before allocating; *floats: floats occluders' planes and footprints need. */
+/* pvs_scene_create's checks, before allocating; *floats: floats for occluders' planes, footprints */
 PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t *floats, pvs_error *err) {
 	size_t n3, i;
 	uint32_t o;
@@ -2311,7 +2311,7 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 	return PVS_OK;
 }
 
-/* Objects' flags, triangle ranges, boxes (empty if all zero-area), s->triangle_object; no triangle shared. */
+/* Objects' flags, triangle ranges, boxes (empty if all zero-area), s->triangle_object; none shared */
 PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	uint32_t o, t;
 	for (o = 0; o < desc->object_count; ++o) {
@@ -2349,7 +2349,7 @@ PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *de
 	return PVS_OK;
 }
 
-/* Checks explicit occluders, copies planes and footprints into s->occluder_data, grows bounds. */
+/* Checks explicit occluders, copies planes, footprints into s->occluder_data, grows bounds */
 PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	size_t floats = 0;
 	uint32_t o;
@@ -2379,7 +2379,7 @@ PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *
 	return PVS_OK;
 }
 
-/* kD-trees over triangle boxes (zero-area emptied; see-through in own tree) and object boxes. */
+/* kD-trees over triangle boxes (zero-area emptied; see-through in own tree) and object boxes */
 PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, pvs_box *tri_boxes,
 		pvs_error *err) {
 	pvs_kdtree_desc kd;
@@ -2490,7 +2490,7 @@ PVS_API pvs_box pvs_scene_object_box(const pvs_scene *s, uint32_t object) {
 	PVS_ASSERT(object < s->object_count);
 	return s->object_boxes[object];
 }
-/* FNV-1a of n 32-bit words, low byte first. */
+/* FNV-1a of n 32-bit words, low byte first */
 PVS__STATIC uint64_t pvs__fnv(uint64_t h, const void *words, size_t n) {
 	const uint8_t *p = (const uint8_t *)words;
 	size_t i;
@@ -2533,9 +2533,9 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
 	return s->occluders + i;
 }
 
-/* Scene's 2.5D facades for >>vocc: consecutive triangle pairs forming vertical rectangles with bottom <= scene's lowest
-   point, others left out (conservative; pvs__facades_extract would change vocc's results). *count 6-float facades (u0
-   v0 u1 v1 top bottom), triangle order, into new *out (6 count + 6 floats, allocator a; NULL: failure). */
+/* Scene's 2.5D facades for >>vocc: consecutive triangle pairs forming vertical rectangles, bottom <= scene's lowest
+   point; others left out (conservative; pvs__facades_extract would change vocc's output). *count 6-float facades (u0 v0
+   u1 v1 top bottom), triangle order, into new *out (6 count + 6 floats, allocator a; NULL: failed) */
 PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocator *a, float **out, uint32_t *count) {
 	int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
 	float ground = s->bounds.min[up];
@@ -2598,7 +2598,7 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 
 /* Layout: 8-byte nodes; `bits`: axis in low 2 bits (3 = leaf), above: inner node's left child (right follows) or leaf's
    offset in `items`; union: split or leaf's item count. Node 0: root; N nodes: (N + 1) / 2 leaves. Items in every leaf
-   whose closed cell overlaps their closed box: point on split plane finds all boxes touching it. */
+   whose closed cell meets their closed box: point on split plane finds all boxes touching it */
 #define PVS__KD_BINS 32 /* SAH candidate planes per axis: BINS - 1 */
 #define PVS__KD_SAMPLE 256 /* most refs binned per node (even stride through bigger) */
 #define PVS__KD_LEAF 3u
@@ -2625,7 +2625,7 @@ struct pvs_kdtree {
 	size_t node_capacity, item_capacity;
 };
 
-/* Build's item ref: its box clipped to node's cell. */
+/* Build's item ref: box clipped to node's cell */
 typedef struct pvs__kdref {
 	float min[3], max[3];
 	uint32_t item;
@@ -2665,9 +2665,9 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 
 /* Splits `node` (refs[base..base + n) atop stack, cell `box`) or makes leaf. Binned SAH, 3 axes (Bittner 2002 §4.4;
    binning after Wald 2007); counts exact for closed-interval split below (sampled in big nodes). Budgets (straddling
-   boxes go both sides: everywhere-overlapping boxes would make memory quadratic): 2 pools from pvs_kdtree_create, of
-   refs a split adds (l + r - n) and nodes (2 per split); split they can't pay: not taken (bigger leaf). Pools spent in
-   build order: tree within them is as built without. */
+   boxes go both sides: boxes overlapping everywhere would make memory quadratic): 2 pools from pvs_kdtree_create, of
+   refs a split adds (l + r - n) and nodes (2 per split); unaffordable split not taken (bigger leaf). Pools spent in
+   build order: tree within them as built without */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
 		uint32_t depth) {
 	pvs_kdtree *t = b->tree;
@@ -2713,7 +2713,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 			float lo = box->min[axis], mn = ref->min[axis], mx = ref->max[axis];
 			int s, e;
 			/* s = first k in 1..nb with mn <= planes[k], e = last k in 0..nb-1 with mx >= planes[k]. Estimates in [0,
-			   nb], off by <= 1; one exact compare each way fixes them. */
+			   nb], off by <= 1; one exact compare each way fixes */
 			s = (int)((mn - lo) * scale[axis]);
 			e = (int)((mx - lo) * scale[axis]);
 			s = s < nb - 1 ? s : nb - 1;
@@ -2763,7 +2763,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	}
 
 	/* closed intervals: ref touching plane goes both sides, clipped; left refs compacted in place, right ones above
-	   base + n (loop writes one slot past them) */
+	   base + n (loop writes a slot past them) */
 	{
 		pvs__kdref *refs = (pvs__kdref *)pvs__grow_capped(&t->allocator, b->refs, &b->ref_capacity, base + n,
 				base + n + nr + 1, b->ref_limit, sizeof(pvs__kdref), &r);
@@ -2856,8 +2856,8 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	if (b->max_depth > PVS_KDTREE_MAX_DEPTH) b->max_depth = PVS_KDTREE_MAX_DEPTH;
 
 	/* Pools: PVS_KDTREE_MAX_REFS_PER_BOX refs, PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (K, N). Stack: refs of leaves
-	   to build + node being split (n and its right side): <= pool + one node's count and a slot, so <= 4 K + 8 N + 28
-	   (K + 1) bytes per box. */
+	   to build + node being split (n and right side): <= pool + a node's count and a slot: <= 4 K + 8 N + 28 (K +
+	   1) bytes per box */
 	b->refs_left = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX - 1) * m;
 	b->nodes_left = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m;
 	b->item_limit = (size_t)PVS_KDTREE_MAX_REFS_PER_BOX * m;
@@ -2915,12 +2915,12 @@ PVS__STATIC int pvs__kdsweep_before(const void *pa, const void *pb) {
 	return a->d2 < b->d2 || (a->d2 == b->d2 && a->node < b->node);
 }
 
-/* Heap holds no node's ancestor (a pop pushes children): at most leaves. */
+/* Heap holds no node's ancestor (a pop pushes children): <= leaves */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *t) {
 	return ((size_t)t->node_count + 1) / 2 * sizeof(pvs__kdsweep);
 }
 
-/* PVS_VISIT_ALL: non-empty leaves under inner node `node` (cell `box`), depth first, distance -1; STOP if told. */
+/* PVS_VISIT_ALL: non-empty leaves under inner node `node` (cell `box`), depth first, distance -1; STOP if told */
 PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, const pvs_box *box,
 		pvs_kdtree_visit_fn visit, void *user) {
 	struct {
@@ -2955,8 +2955,8 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
 	return PVS_VISIT_DESCEND;
 }
 
-/* Approximate occlusion sweep (Bittner 2002 §3.2): priority queue on nodes' min distance to source (never less for
-   child). `heap`: (node_count + 1) / 2 entries; `node` (NULL ok) gets visited node's index per `visit`. */
+/* Approximate occlusion sweep (Bittner 2002 §3.2): priority queue on nodes' min distance to source (child's never
+   less). `heap`: (node_count + 1) / 2 entries; `node` (NULL ok): visited node's index per `visit` */
 PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 		pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
 	size_t n = 1;
@@ -3013,7 +3013,7 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
 
 /* ---- ray walk */
 
-/* Stack walk (Havran's TA_rec_B family), double; leaf ranges widen by PVS__KD_RAY_TOL: no touched leaf skipped. */
+/* Stack walk (Havran's TA_rec_B family), double; leaf ranges widen by PVS__KD_RAY_TOL: no touched leaf skipped */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const float dir[3], float tmax_f,
 		pvs_kdtree_ray_fn fn, void *user) {
 	struct {
@@ -3104,7 +3104,7 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 
 /* ---- point location */
 
-/* Point on split plane goes left; that leaf holds every box containing it (touching boxes go both ways). */
+/* Point on split plane goes left; that leaf holds all boxes containing it (touching ones go both ways) */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *t, const float p[3], uint32_t *count) {
 	const pvs__kdnode *nd;
 	uint32_t axis;
@@ -3156,7 +3156,7 @@ PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes,
 	return PVS_OK;
 }
 
-/* Watertight-test ray (Woop, Benthin, Wald, JCGT 2013), double: kz largest direction axis, shear takes dir to +-z. */
+/* Watertight-test ray (Woop, Benthin, Wald, JCGT 2013), double: kz largest direction axis, shear takes dir to +-z */
 typedef struct pvs__ray {
 	double o[3];
 	double sx, sy, sz;
@@ -3177,10 +3177,10 @@ PVS__STATIC int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]
 }
 
 /* 2D edge function of sheared corners p, q: sign: side of p-q ray passes. Sorted corners: shared edge bit-identical in
-   both triangles. */
+   both */
 PVS__STATIC double pvs__edge(const double *p, const double *q) { return p[0] * q[1] - p[1] * q[0]; }
 
-/* Two-sided watertight ray-triangle test: 1 and *t if ray meets triangle at 0 <= t <= tmax. */
+/* Two-sided watertight ray-triangle test: 1 and *t if ray meets it at 0 <= t <= tmax */
 PVS__STATIC int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax, double *t_out) {
 	double p[3][2], z[3], u, v, w, det, t;
 	int k;
@@ -3260,7 +3260,7 @@ PVS_API int pvs_scene_raycast(const pvs_scene *s, const float origin[3], const f
 	return 1;
 }
 
-/* Ray a + t (b - a), 0 <= t <= 1, b - a in double; zero-length: never blocked. */
+/* Ray a + t (b - a), 0 <= t <= 1, b - a in double; zero-length: never blocked */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], const float b[3]) {
 	pvs__raycast rc;
 	double o[3], d[3];
@@ -3284,14 +3284,14 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 	return rc.triangle != 0xffffffffu;
 }
 
-/* Scene triangle t's pvs__tri_cross; returns its object. */
+/* Scene triangle t's pvs__tri_cross; returns object */
 PVS__STATIC uint32_t pvs__tri_normal(const pvs_scene *s, uint32_t t, double n[3]) {
 	const uint32_t *q = s->indices + 3 * (size_t)t;
 	const float *p = s->positions;
 	pvs__tri_cross(p + 3 * (size_t)q[0], p + 3 * (size_t)q[1], p + 3 * (size_t)q[2], n);
 	return s->triangle_object[t];
 }
-/* 1 unless t's object is one-sided (PVS_OBJECT_ONE_SIDED) and ray dir meets t from behind or edge on: nothing drawn. */
+/* 1 unless t's object is one-sided (PVS_OBJECT_ONE_SIDED) and ray meets t from behind or edge on: nothing drawn */
 PVS__STATIC int pvs__front_hit(const pvs_scene *s, uint32_t t, const float dir[3]) {
 	double n[3];
 	uint32_t o = pvs__tri_normal(s, t, n);
@@ -3300,7 +3300,7 @@ PVS__STATIC int pvs__front_hit(const pvs_scene *s, uint32_t t, const float dir[3
 }
 
 /* Sets objects of see-through triangles sampled ray origin + t dir crosses till it stops (0 <= t <= tmax;
-   watertight). */
+   watertight) */
 typedef struct pvs__see_through {
 	pvs__ray ray;
 	const float *dir;
@@ -3347,12 +3347,12 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 
 /* Rounding. Per-polygon (triangle clipped to near plane) setup in double: edge functions E (>= 0 inside, |a| + |b| = 1)
    at range's corner + exact extreme over pixel, min(0, a) + min(0, b) for inner coverage (occluders), max(0, a) +
-   max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Error bounds subtracted (occluder) or added
+   max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Error bounds subtracted (occluder), added
    (occludee) before float rounding: 2^-40 of coordinates' size for setup and projection, over edge length; 2^-20 of
    terms for float c + a i + b j. Depth z/w affine: plane's extreme at pixel corners (inner) or corners and vertices
    (outer), + margin, clamped by vertices' extreme depth. Degenerate polygons: occluders cover nothing, occludees
-   rectangle at nearest depth. Scalar, SIMD: same float ops in order, bit-identical without FMA contraction (pragma
-   below for clang). Limit: near-plane cut has no margin (occludee may lose sliver ~2^-51 |b - a| / near wide). */
+   rectangle at nearest depth. Scalar, SIMD: same float ops, order: bit-identical without FMA contraction (clang: pragma
+   below). Limit: near-plane cut has no margin (occludee may lose ~2^-51 |b - a| / near wide sliver) */
 
 #if !defined(PVS_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #define PVS__SSE2 1
@@ -3362,7 +3362,7 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 #include <arm_neon.h>
 #endif
 /* AVX2 twins (issue 31): GCC, Clang build hot f again as f2 for AVX2 (flatten: with all it calls; VEX, wider loops, no
-   FMA: same bits), run if CPU has it (PVS__ISA); f returns value (0 if none). MSVC: /arch:AVX2 builds all so. */
+   FMA: same bits), run if CPU has it (PVS__ISA); f returns value (0: none). MSVC: /arch:AVX2 builds all so */
 #if defined(PVS__SSE2) && !defined(__AVX2__) && (defined(__x86_64__) || defined(__i386__)) && \
 	(defined(__clang__) || __GNUC__ >= 5)
 #define PVS__TWIN(t, f, params, args) \
@@ -3384,10 +3384,10 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 #include <immintrin.h>
 #endif
 
-/* Lanes: 4 floats (pvs__f4), 4 int32 (pvs__i4), mask (pvs__m4: lanes all ones or zero), SIMD kernels' ops: min, max:
-   a < b ? a : b, a > b ? a : b (SSE2 minps/maxps; NEON compare-select: vminq differs on NaN, signed zeros); float to
-   int truncates (NEON saturates where SSE2 gives INT_MIN: kernels keep lanes in range); shl_ones: ~0 << clamp(n, 0,
-   32). PVS__LANES_DIV adds div, hmin2, hmax2 (over 8 lanes). */
+/* Lanes: 4 floats (pvs__f4), 4 int32 (pvs__i4), mask (pvs__m4: lanes all ones or zero); kernels' ops: min, max: a < b ?
+   a : b, a > b ? a : b (SSE2 minps/maxps; NEON compare-select: vminq differs on NaN, signed zeros); float to int
+   truncates (NEON saturates, SSE2 gives INT_MIN: kernels keep lanes in range); shl_ones: ~0 << clamp(n, 0, 32).
+   PVS__LANES_DIV adds div, hmin2, hmax2 (over 8 lanes) */
 #if defined(PVS__SSE2)
 #define PVS__LANES 1
 #define PVS__LANES_DIV 1
@@ -3535,7 +3535,7 @@ PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
 #pragma STDC FP_CONTRACT OFF
 #endif
 #if defined(PVS__AVX8)
-/* 8 lanes (pvs__f8, pvs__i8, pvs__m8) for AVX2 kernels: pvs__f4's ops on __m256, same IEEE results. */
+/* 8 lanes (pvs__f8, pvs__i8, pvs__m8) for AVX2 kernels: pvs__f4's ops on __m256, same IEEE results */
 typedef __m256 pvs__f8;
 typedef __m256i pvs__i8;
 typedef __m256 pvs__m8;
@@ -3589,8 +3589,8 @@ PVS__AVX8 PVS__STATIC void pvs__f8_xyz3(const float *const v[][3], int k, __m256
 #define PVS__RASTER_MAX_LEVELS 16
 #define PVS__RASTER_BIG 1e30
 
-/* Occluder tile (Hasselgren et al. 2016), reversed Z: occluders at least as near as z0 on every pixel, z1 on `mask`
-   (z1 > z0 if mask != 0). */
+/* Occluder tile (Hasselgren et al. 2016), reversed Z: occluders at least as near as z0 on every pixel, z1 on `mask` (z1
+   > z0 if mask != 0) */
 typedef struct pvs__tile {
 	uint32_t mask[4]; /* bit k of mask[r]: pixel (32 tx + k, 4 ty + r) */
 	float z0, z1;
@@ -3686,8 +3686,8 @@ typedef struct pvs__rsetup {
 	float zclamp; /* occluder: max(plane, zclamp); occludee: min(plane, zclamp) */
 } pvs__rsetup;
 
-/* Reference pixel rule (scalar loop, SIMD tails): inside all edges (rk: at column i0), clamped plane depth if
-   nearer. 1 if written. */
+/* Reference pixel rule (scalar loop, SIMD tails): inside all edges (rk: at column i0), clamped plane depth if nearer; 1
+   if written */
 PVS__STATIC int pvs__raster_pixel(const pvs__rsetup *s, const float *rk, float rz, float *row, int32_t i,
 		int occluder) {
 	float fi = (float)(i - s->i0), d;
@@ -3746,7 +3746,7 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
 }
 #endif
 
-/* 8 x 8 tiles keep farthest depth; polygon skips tiles it is outside or can't be nearer than (same result). */
+/* 8 x 8 tiles keep farthest depth; polygon skips tiles it's outside or can't be nearer than (same result) */
 #define PVS__TILE_SHIFT 3
 #define PVS__TILE (1 << PVS__TILE_SHIFT)
 
@@ -3762,8 +3762,8 @@ PVS__STATIC void pvs__tile_update(float *buf, uint32_t W, uint32_t H, float *til
 	tile_min[ty * ((W + PVS__TILE - 1) >> PVS__TILE_SHIFT) + tx] = lo;
 }
 
-/* -1: every pixel of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fails edge as float loops see it, 1: all pass, 0:
-   undecided (in double, slack 2^-18 of terms). */
+/* -1: every pixel of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fails edge as float loops see, 1: all pass, 0: undecided
+   (in double, slack 2^-18 of terms) */
 PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
 	int e, inside = 1;
 	for (e = 0; e < s->edges; ++e) {
@@ -3778,7 +3778,7 @@ PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a
 }
 
 /* Most (least: least) loops can write over pixels [a0, a1] x [b0, b1] (relative), slack included: affine depth's
-   extreme corner (rounding monotone). */
+   extreme corner (rounding monotone) */
 PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1,
 		int occluder, int least) {
 	double pa = s->za, pb = s->zb, z,
@@ -3788,7 +3788,7 @@ PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t 
 	return occluder ? pvs__dmax(z, s->zclamp) : pvs__dmin(z, s->zclamp);
 }
 
-/* Pixel loops by 4 x 4 tile blocks, then tiles, skipping those as near as polygon or outside an edge. */
+/* Pixel loops by 4 x 4 tile blocks, then tiles, skipping those as near as polygon, outside an edge */
 PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder,
 		int simd, float zbound) {
 	uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, bx, by;
@@ -3856,7 +3856,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 		}
 }
 
-/* Pixel rectangle gets `d` where nearer (degenerate occludees). */
+/* Pixel rectangle gets `d` where nearer (degenerate occludees) */
 PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *tile_min, int32_t i0, int32_t i1,
 		int32_t j0, int32_t j1, float d) {
 	int32_t i, j;
@@ -3873,8 +3873,8 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
 }
 
 /* Depth plane of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi, oy + fj),
-   fi <= iw, fj <= jh, from largest fan triangle: p = za, zb, zk (z = zk + za fi + zb fj), setup error bound; 0 if no
-   fan triangle has area. */
+   fi <= iw, fj <= jh, from largest fan triangle: p = za, zb, zk (z = zk + za fi + zb fj), setup error bound; 0: no fan
+   triangle has area */
 PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double *z, int n, double ox, double oy,
 		double iw, double jh, double span, double mag, double zmag, double perr, double zerr,
 		double p[4]) {
@@ -3898,7 +3898,7 @@ PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double
 }
 
 /* Depth plane bound over those pixels (pvs__raster_plane): (zk + zb fj) + za fi in float <= (occluder) or >= (occludee)
-   plane's extreme over pixel. None: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
+   plane's extreme over pixel. None: zk = -FLT_MAX (occluder), FLT_MAX; za = zb = 0 */
 PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy,
 		double iw, double jh, double span, double mag, double zmag, double perr,
 		double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
@@ -3919,7 +3919,7 @@ PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const doub
 	}
 }
 
-/* Bounds, doubled signed area, max |x| + |y|, |z|; 0 if n < 3 or NaN. */
+/* Bounds, doubled signed area, max |x| + |y|, |z|; 0: n < 3 or NaN */
 typedef struct pvs__polyext {
 	double xmin, xmax, ymin, ymax, zmin, zmax, area2, mag, zmag;
 } pvs__polyext;
@@ -3941,7 +3941,7 @@ PVS__STATIC int pvs__poly_extent(const double *x, const double *y, const double 
 	return 1;
 }
 
-/* 0 if polygon (extent e, span = width + height) past useful precision or degenerate. */
+/* 0 if polygon (extent e, span = width + height) past useful precision, degenerate */
 PVS__STATIC int pvs__poly_usable(const pvs__polyext *e, double span) {
 	return e->mag < PVS__RASTER_BIG * PVS__RASTER_BIG && pvs__dabs(e->area2) > 1e-9 * span * span &&
 		pvs__dabs(e->area2) > 1e-300;
@@ -3949,7 +3949,7 @@ PVS__STATIC int pvs__poly_usable(const pvs__polyext *e, double span) {
 
 /* Edge i of polygon x, y (flip: clockwise) over pvs__raster_plane's pixels, per Rounding: e = a, b, k, E = a fi + b fj
    + k. Mode 0 occludee, 1 occluder, 2 tile loops (own float margin). 1: edge to test, 0: all pixels pass (or no
-   length), -1: none does. */
+   length), -1: none */
 PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n, int flip, double ox, double oy,
 		double iw, double jh, double mag, double perr, int mode, double e[3]) {
 	int j = i + 1 == n ? 0 : i + 1;
@@ -3976,7 +3976,7 @@ PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n,
 	return 1;
 }
 
-/* Convex polygon (pixels x, y; affine depth z) into W x H buffer, keeping nearer depth. */
+/* Convex polygon (pixels x, y; affine depth z) into W x H buffer, keeping nearer depth */
 PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *tile_min, const double *x, const double *y,
 		const double *z, int n, int occluder, int simd, double perr, double zerr) {
 	pvs__rsetup s;
@@ -4035,7 +4035,7 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 
 /* ---- occluder buffer: Masked Occlusion Culling (Hasselgren, Andersson and Akenine-Moller 2016), inner coverage.
    Polygon's inner pixels in 32 x 4 tile row: one run of columns from edges' intercepts (shifted masks); working layer
-   merges over base by paper's heuristic. ---- */
+   merges over base per paper's heuristic. ---- */
 
 #define PVS__TW_SHIFT 5
 #define PVS__TH_SHIFT 2
@@ -4046,8 +4046,8 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 #define PVS__U_2_44 5.684341886080802e-14
 #define PVS__U_2_48 3.552713678800501e-15
 
-/* Occluder polygon for tile loops (i, j relative to (i0, j0)): pixel i of row j inside edge e if i >= X_e(j) (left) or
-   i <= X_e(j) (right); X_e(j) = xi + s j with margins; m: float error bound. */
+/* Occluder polygon for tile loops (i, j relative to (i0, j0)): pixel i of row j inside edge e if i >= X_e(j) (left), i
+   <= X_e(j) (right); X_e(j) = xi + s j with margins; m: float error bound */
 typedef struct pvs__tpoly {
 	int32_t i0, i1, j0, j1; /* inner pixel range (absolute) */
 	int32_t jlo, jhi; /* rows (relative) near-horizontal edges leave */
@@ -4058,14 +4058,14 @@ typedef struct pvs__tpoly {
 } pvs__tpoly;
 
 /* What prefiltered occluder may change: tiles [tx0, tx1] x [ty0, ty1], depths <= zmax (nearest vertex's; farther:
-   conservative). So drawing it where prefilter finds it hidden is no-op: bands equal whole frame. */
+   conservative). Drawing it where prefilter finds it hidden: no-op: bands equal whole frame */
 typedef struct pvs__tlim {
 	int32_t tx0, tx1, ty0, ty1;
 	float zmax;
 	int cull;
 } pvs__tlim;
 
-/* Columns L[d]..R[d] (absolute; L > R: empty) of rows jrow + d inside all edges, from xr = X(jrow); SIMD reference. */
+/* Columns L[d]..R[d] (absolute; L > R: empty) of rows jrow + d inside all edges, from xr = X(jrow); SIMD reference */
 PVS__STATIC void pvs__tile_rows_scalar(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
 	const float fw = (float)(t->i1 - t->i0), fw1 = fw + 1.0f;
 	int d, e;
@@ -4094,7 +4094,7 @@ PVS__STATIC void pvs__tile_rows_scalar(const pvs__tpoly *t, int32_t jrow, const 
 	}
 }
 
-/* Mask bits of columns L..R in tile row from column x0 (bit k: column x0 + k). */
+/* Mask bits of columns L..R in tile row from column x0 (bit k: column x0 + k) */
 PVS__STATIC uint32_t pvs__tile_bits(int32_t L, int32_t R, int32_t x0) {
 	int32_t lo = L - x0, hi = R - x0 + 1;
 	uint32_t a, b;
@@ -4127,7 +4127,7 @@ PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const fl
 	pvs__i4_store(L, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(1), l), pvs__i4_set1(t->i0)));
 	pvs__i4_store(R, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(0), r), pvs__i4_set1(t->i0)));
 }
-/* 4 rows' bits of tile at column x0; 0 if all empty. */
+/* 4 rows' bits of tile at column x0; 0: all empty */
 PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
 	pvs__i4 vx = pvs__i4_set1(x0), m;
 	m = pvs__i4_andn(pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_load(L), vx)),
@@ -4138,8 +4138,8 @@ PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t 
 #endif
 
 /* Merges coverage T (as near as zt > z0) into tile, Hasselgren et al.'s two-layer update: T covering tile becomes base;
-   else layer takes union at farther depth, or T if T leads it by more than it leads base; full layer becomes base. Each
-   pixel stays lower bound of nearest occluder. Off map: rows with bit set in `rows`, bits `xpad`. */
+   else layer takes union at farther depth, or T if T leads it more than it leads base; full layer: base. Each pixel
+   stays lower bound of nearest occluder. Off map: rows with bit set in `rows`, bits `xpad` */
 PVS__STATIC inline void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, uint32_t rows, uint32_t xpad) {
 	uint32_t full = ~0u, any = 0, m;
 	int k;
@@ -4171,7 +4171,7 @@ PVS__STATIC inline void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float 
 	}
 }
 
-/* Polygon's tile rows: runs of 4 pixel rows, then per tile farthest depth; skips tiles already as near. */
+/* Polygon's tile rows: runs of 4 pixel rows, then per tile farthest depth; skips tiles as near */
 PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, const pvs__tlim *lim) {
 	int32_t ty, ty0 = (t->j0 + t->jlo) >> PVS__TH_SHIFT, ty1 = (t->j0 + t->jhi) >> PVS__TH_SHIFT;
 	float xr[PVS__RASTER_MAXV], zcap = lim ? lim->zmax : FLT_MAX;
@@ -4249,8 +4249,8 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, con
 	}
 }
 
-/* Edges over t's inner range, as pvs__raster_poly: steep ones become left [0, nl), right [nl, ne) edges,
-   near-horizontal ones narrow rows [jlo, jhi]. 0 if no pixel passes one. */
+/* Edges over t's inner range, as pvs__raster_poly: steep ones: left [0, nl), right [nl, ne) edges; near-horizontal ones
+   narrow rows [jlo, jhi]. 0: no pixel passes one */
 PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag,
 		double perr) {
 	double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0);
@@ -4304,7 +4304,7 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 }
 
 /* Depth plane over t's range (as pvs__raster_zplane) less setup error, zm loops' float margin, zlo clamp; unusable: zk
-   = -FLT_MAX. */
+   = -FLT_MAX */
 PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
 		double mag, double zmag, double perr, double zerr, double zlo) {
 	double iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), p[4];
@@ -4324,7 +4324,7 @@ PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *
 	}
 }
 
-/* Occluder polygon into tiles; setup, margins as pvs__raster_poly's. */
+/* Occluder polygon into tiles; setup, margins as pvs__raster_poly's */
 PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr,
 		double zerr, const pvs__tlim *lim) {
 	pvs__tpoly t;
@@ -4345,7 +4345,7 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
 	pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR), lim);
 }
 
-/* Occludees go to per-pixel map, cleared on first use (`mixed`). */
+/* Occludees go to per-pixel map, cleared on first use (`mixed`) */
 PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
 	size_t i, n = (size_t)r->width * r->height;
 	if (r->mixed) return;
@@ -4354,7 +4354,7 @@ PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
 	r->mixed = 1;
 }
 
-/* Per-pixel map from tiles: overwritten, or nearer where occludees drawn. */
+/* Per-pixel map from tiles: overwritten, or nearer where occludees drawn */
 PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
 	uint32_t ty, tx, d, k;
 	if (!r->tiled) {
@@ -4374,7 +4374,7 @@ PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
 		}
 }
 
-/* Clip-space vertex. */
+/* Clip-space vertex */
 typedef struct pvs__cv {
 	double c[4];
 	double e; /* bound on each coordinate's rounding */
@@ -4392,7 +4392,7 @@ PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) 
 	return v;
 }
 
-/* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh), depth *z; *perr, *zerr grow to cover error. */
+/* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh), depth *z; *perr, *zerr grow to cover error */
 PVS__STATIC void pvs__raster_project(const pvs__cv *v, double hw, double hh, double *x, double *y, double *z,
 		double *perr, double *zerr) {
 	double iw = 1.0 / v->c[3], e = v->e * iw;
@@ -4404,7 +4404,7 @@ PVS__STATIC void pvs__raster_project(const pvs__cv *v, double hw, double hh, dou
 }
 
 /* Sutherland-Hodgman against w - z >= 0 (near) or w - tiny >= 0; lout gets lin's labels (edge i: vertex i to i + 1;
-   NULL: none), PVS__MESH_CLIP along plane. Cutting from inside vertex makes shared edges' cuts identical. */
+   NULL: none), PVS__MESH_CLIP along plane. Cut from inside vertex: shared edges' cuts identical */
 #define PVS__MESH_CLIP 3
 PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int plane, const uint8_t *lin, uint8_t *lout) {
 	int i, m = 0;
@@ -4464,7 +4464,7 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
 }
 
 /* Facing: sign of det(x, y, w) (+1: CCW on screen), 0 within rounding: entries off by e move it <= 6 ((M + e)^3 - M^3),
-   evaluation 1e-14 (M + e)^3. */
+   evaluation 1e-14 (M + e)^3 */
 PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
 	const double *p = v[0].c, *q = v[1].c, *s = v[2].c;
 	double d =
@@ -4506,14 +4506,14 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 }
 
 /* ---- occluder prefilter: 4 triangles at once in float (SIMD lanes, as Masked Occlusion Culling), dropping those
-   behind near plane, off screen, without whole pixel or behind all tiles' bases; rest go to pvs__raster_tri. Dropping
-   occluders conservative: no margins; scalar, SIMD agree. ---- */
+   behind near plane, off screen, without whole pixel or behind all tiles' bases; rest to pvs__raster_tri. Dropping
+   occluders: conservative, no margins; scalar, SIMD agree. ---- */
 
 #define PVS__FSMALL(a) (((a) < 0.0f ? 0.0f - (a) : (a)) < 1e30f)
 
 /* Lanes < n (<= 8) to draw (bit l), those in *test only if not hidden (bit 8 + l: not drawn, no whole pixel); box,
-   zmax: their whole pixels in map (box[8 k + l]: i0, i1, j0, j1), nearest vertex depth. Lanes partly behind near or eye
-   plane drawn untested (clipped later) unless wholly behind one or past a side plane. */
+   zmax: whole pixels in map (box[8 k + l]: i0, i1, j0, j1), nearest vertex depth. Lanes partly behind near or eye plane
+   drawn untested (clipped later) unless wholly behind one, past side plane */
 PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][3], unsigned *test, int32_t *box,
 		float *zmax, int n, int cull) {
 	const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
@@ -4540,7 +4540,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 				x[k] = m[0] * X + m[1] * Y + m[2] * Z + m[3], y[k] = m[4] * X + m[5] * Y + m[6] * Z + m[7];
 				o &= (x[k] > cw[k]) | (x[k] + cw[k] < 0.0f) << 1 | (y[k] > cw[k]) << 2 | (y[k] + cw[k] < 0.0f) << 3;
 			}
-			if (o) draw &= ~(1u << l); /* past a side plane */
+			if (o) draw &= ~(1u << l); /* past side plane */
 			continue;
 		}
 		PVS__FOR3(k) {
@@ -4575,9 +4575,9 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 }
 
 #if defined(PVS__LANES_DIV)
-/* Prefilter on W lanes, written once: pvs__pf_simd in pvs__f4 (W 4; caller runs it per half of 8 lanes), pvs__pf_avx2
-   in pvs__f8 (W 8, where AVX2 runs: as Masked Occlusion Culling's AVX2 path). v[l][k]: 4 readable floats (caller copies
-   last vertex); as pvs__pf_scalar. F, M, I: lanes' float, mask, int32 ops. */
+/* Prefilter on W lanes, written once: pvs__pf_simd in pvs__f4 (W 4; caller runs it per half of 8), pvs__pf_avx2 in
+   pvs__f8 (W 8, where AVX2 runs, as Masked Occlusion Culling's AVX2 path). v[l][k]: 4 readable floats (caller copies
+   last vertex); as pvs__pf_scalar. F, M, I: lanes' float, mask, int32 ops */
 #define PVS__PF_DEF(name, F, M, I, W) \
 	PVS__STATIC unsigned name(const pvs_raster *r, const float *const v[][3], unsigned *test, int32_t *box, \
 							  float *zmax, int cull) { \
@@ -4607,7 +4607,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[][
 		all = (unsigned)M##_bits(M##_or(allb, nonpos)); \
 		*test = 0; \
 		if (all == A) return 0; \
-		PVS__FOR3(k) { /* partly behind, past a side plane: dropped */ \
+		PVS__FOR3(k) { /* partly behind, past side plane: dropped */ \
 			cx[k] = PVS__ROW(F, 0, k), cy[k] = PVS__ROW(F, 4, k); \
 			o[0] = M##_and(k ? o[0] : anyb, F##_gt(cx[k], cw[k])); \
 			o[1] = M##_and(k ? o[1] : anyb, F##_lt(F##_add(cx[k], cw[k]), zero)); \
@@ -4669,7 +4669,7 @@ PVS__AVX8 PVS__PF_DEF(pvs__pf_avx2, pvs__f8, pvs__m8, pvs__i8, 8)
 #endif
 #endif
 
-/* Block (bx, by)'s minimum base taken anew. */
+/* Block (bx, by)'s minimum base taken anew */
 PVS__STATIC void pvs__block_min(pvs_raster *r, uint32_t bx, uint32_t by) {
 	uint32_t x0 = bx << PVS__BLOCK_SHIFT, y0 = by << PVS__BLOCK_SHIFT, x1 = x0 + (1u << PVS__BLOCK_SHIFT) - 1,
 			 y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1, tx, ty;
@@ -4688,7 +4688,7 @@ PVS__STATIC void pvs__block_min(pvs_raster *r, uint32_t bx, uint32_t by) {
 
 /* 1 if every tile under box[0]..box[8] x box[16]..box[24] (i0, i1, j0, j1) has base as near as zmax. Blocks first,
    small boxes too (bases only grow: stale block minimum is lower bound, retaken on failure if dirty). `bins`: blocks
-   alone, read only (pvs_raster_bin's parts run at once). */
+   alone, read only (pvs_raster_bin's parts run concurrently) */
 PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *box, float zmax, int bins) {
 	uint32_t tx0 = (uint32_t)box[0] >> PVS__TW_SHIFT, tx1 = (uint32_t)box[8] >> PVS__TW_SHIFT, tx, ty;
 	uint32_t ty0 = (uint32_t)box[16] >> PVS__TH_SHIFT, ty1 = (uint32_t)box[24] >> PVS__TH_SHIFT, bx, by;
@@ -4696,7 +4696,7 @@ PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *box, float zmax, in
 		for (bx = tx0 >> PVS__BLOCK_SHIFT; bx <= tx1 >> PVS__BLOCK_SHIFT; ++bx) {
 			size_t k = (size_t)by * r->bw + bx;
 			uint32_t x0 = bx << PVS__BLOCK_SHIFT, y0 = by << PVS__BLOCK_SHIFT, x1 = x0 + (1u << PVS__BLOCK_SHIFT) - 1,
-					 y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1; /* box's tiles are on map */
+					 y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1; /* box's tiles on map */
 			if (r->bmin[k] >= zmax) continue;
 			if (bins) return 0;
 			if (r->bdirty[k]) {
@@ -4718,7 +4718,7 @@ PVS__STATIC inline void pvs__tri_corners(const uint32_t *indices, const pvs__occ
 	q[2] = ix ? ix[2] : 3 * t + 2;
 }
 
-/* Limits from prefilter box (as pvs__pf_hidden's); 0 if hidden there. */
+/* Limits from prefilter box (as pvs__pf_hidden's); 0: hidden there */
 PVS__STATIC int pvs__tlim_box(pvs_raster *r, const int32_t *box, float zmax, pvs__tlim *lim) {
 	if (pvs__pf_hidden(r, box, zmax, 0)) return 0;
 	lim->tx0 = box[0] >> PVS__TW_SHIFT, lim->tx1 = box[8] >> PVS__TW_SHIFT;
@@ -4726,7 +4726,7 @@ PVS__STATIC int pvs__tlim_box(pvs_raster *r, const int32_t *box, float zmax, pvs
 	return 1;
 }
 
-/* Triangle pvs_raster_bin kept: draw, triangle, prefilter's box, zmax; test: bit 0 tested, 1-2 cull + 1. */
+/* Triangle pvs_raster_bin kept: draw, triangle, prefilter's box, zmax; test: bit 0 tested, 1-2 cull + 1 */
 typedef struct pvs__qtri {
 	uint32_t draw, tri;
 	int32_t box[4];
@@ -4739,9 +4739,9 @@ typedef struct pvs__qtri {
 typedef char pvs__qmask_holds_bands[PVS_RASTER_PARTS == 8 ? 1 : -1]; /* band per bit of pvs_raster.qmask */
 #define PVS__QBAND(r, b) ((int32_t)((b) * (r)->bh / PVS_RASTER_PARTS) << PVS__BLOCK_SHIFT) /* 1st tile row */
 
-/* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene triangles tris) through prefilter, 8 at once (AVX2
-   lanes, 2 halves of 4, or scalar: same bits); part < PVS_RASTER_PARTS: kept for bands, else drawn unless hidden;
-   PVS_RASTER_PARTS + 1: mesh piece too, until full. Returns where it stopped. */
+/* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene's tris) through prefilter, 8 at once (AVX2 lanes, 2
+   halves of 4, or scalar: same bits); part < PVS_RASTER_PARTS: kept for bands, else drawn unless hidden;
+   PVS_RASTER_PARTS + 1: mesh piece too, until full. Returns stop */
 PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
 		uint32_t stride, const uint32_t *indices, const pvs__occsel *tris,
 		uint32_t t0, uint32_t t1, int cull, uint32_t draw, uint32_t part) {
@@ -4792,7 +4792,7 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 			int32_t *b = box + (l = pvs__ctz64(lanes));
 			pvs__tlim lim = {0, INT32_MAX, 0, INT32_MAX, FLT_MAX, 0};
 			lim.cull = cull;
-			if ((keep >> l) & 1u && part < PVS_RASTER_PARTS) { /* kept for its rows' bands (untested: all) */
+			if ((keep >> l) & 1u && part < PVS_RASTER_PARTS) { /* kept for rows' bands (untested: all) */
 				uint32_t tst = (test >> l) & 1u, i;
 				pvs__qtri *q;
 				if (tst && r->banded && pvs__pf_hidden(r, b, zmax[l], 1)) continue; /* by earlier rounds */
@@ -4816,7 +4816,7 @@ PVS__STATIC uint32_t pvs__raster_occluders(pvs_raster *r, const float *positions
 	return t1;
 }
 
-/* Triangles one by one (pvs__tri_corners; out-of-range vertices: skipped); tiled occluders via prefilter. */
+/* Triangles one by one (pvs__tri_corners; out-of-range vertices skipped); tiled occluders via prefilter */
 PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
 		const pvs__occsel *tris, uint32_t count, int occluder) {
 	uint32_t t, q[3];
@@ -4831,25 +4831,9 @@ PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, 
 	}
 }
 
-/* ---- occluder meshes (Durand 2000 §3.3; contract: pvs_raster_mesh) ----
-
-   Edge internal when (i) exactly 2 triangles of piece share it (welded by index and position), (ii) both have same
-   certain facing (sign of det(x, y, w) in clip space) and run it oppositely, (iii) an end surely in front of both clip
-   planes, neither within rounding of one; other and clip-plane edges form group's boundary B. Boundary of group's union
-   U lies in B: along internal edge its 2 triangles lie on opposite sides (det(a, b, p) = gamma det(a, b, c), gamma >
-   0), each covering half-disk by (iii); clipping vertices end clip edges; at original vertex with only internal edges
-   closed fans turn by positive multiples of 2 pi, covering neighbourhood by (iii). So (connected) pixel surely meeting
-   U that no B edge may meet (separating-axis tests with margins) lies in U, no nearer than least plane minimum or
-   vertex depth of group polygons that may touch it. Folds, back faces, non-manifold edges, bad winding, T-junctions,
-   near-plane cuts only add boundary edges.
-
-   Passes: triangles by ordinary occluder path; tiled, pvs__mesh_fast; row pass, over polygons that leaves, strips
-   where edge may meet pixel (wider than first pass's float margins): strip pixel no edge meets lies in one polygon
-   surely meeting it, else edges split it among polygons whose strips hold it. That needs per pixel only those
-   polygons, with all their edges there: so piece takes triangles prefilter draws or (no whole pixel) finds unhidden one
-   pixel wider (one left out makes its shared edges boundary edges), leaves out polygons without internal edges, runs
-   strips only between columns internal edges may meet. Each pass conservative alone, so their union is. One code path
-   (double; float depth in pixel loops). ---- */
+/* ---- occluder meshes (Durand 2000 §3.3; contract: pvs_raster_mesh): a piece's internal edges (2 triangles of like
+   certain facing, run oppositely, an end surely before both clip planes) are not its boundary; pixels no boundary edge
+   may meet are covered (why: README.md, "Why the conservative parts hold"). Row pass, strips per polygon. ---- */
 
 #define PVS__MESH_NONE 0xffffffffu
 #define PVS__MESH_MULTI 0xfffffffeu
@@ -4869,7 +4853,7 @@ typedef struct pvs__mtri {
 	float za, zb, zk, zclamp; /* at pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
 } pvs__mtri;
 
-/* Clips, projects, prepares clip-space triangle v of facing `orient` (+-1); 0 if empty. */
+/* Clips, projects, prepares clip-space triangle v of facing `orient` (+-1); 0: empty */
 PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orient, pvs__mtri *t) {
 	pvs__cv t1[PVS__RASTER_MAXV], t2[PVS__RASTER_MAXV];
 	uint8_t l0[PVS__RASTER_MAXV] = {0, 1, 2}, l1[PVS__RASTER_MAXV], l2[PVS__RASTER_MAXV];
@@ -4937,7 +4921,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 }
 
 /* Narrows columns [*lo, *hi] to a i + c >= t (double). outer: may keep failing columns, never drops passing ones; else
-   reverse. Bounds checked against neighbours: with t's margin they hold for exact a i + c. */
+   reverse. Bounds checked against neighbours: with t's margin, hold for exact a i + c */
 PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t *lo, int32_t *hi) {
 	int32_t i;
 	int s;
@@ -4971,8 +4955,8 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
 	}
 }
 
-/* Polygon t on row j of band jb, along its edges (between columns its internal edges may meet): over pixels edge may
-   meet, min depth bound; flag 1: surely meets pixel, 2: boundary edge may. */
+/* Polygon t on row j of band jb, along edges (between columns its internal edges may meet): per pixel an edge may
+   meet, min depth bound; flag 1: surely meets pixel, 2: boundary edge may */
 PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int32_t jb) {
 	const uint32_t W = r->width;
 	float *zm = r->mzmin + (size_t)(j - jb) * W;
@@ -4982,7 +4966,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
 	double dj = (double)j;
 	int32_t lo[PVS__MESH_MAXV], hi[PVS__MESH_MAXV], clo = 0, chi = -1, i, u = INT32_MAX, v = -1;
 	int e;
-	for (e = 0; e < t->n; ++e) { /* each edge: pixels whose closed square it may meet (extents and line) */
+	for (e = 0; e < t->n; ++e) { /* each edge: pixels whose closed square it may meet (extents, line) */
 		int f = e + 1 == t->n ? 0 : e + 1;
 		double w = t->dx + t->wide;
 		lo[e] = 1, hi[e] = 0;
@@ -5022,8 +5006,8 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
 	}
 }
 
-/* Writes band b's claimed pixels (flag 1, a bound) to depth map or, tiled, per tile as mask at min claimed depth;
-   resets scratch. */
+/* Writes band b's claimed pixels (flag 1, a bound) to depth map or (tiled) per tile as mask at min claimed depth;
+   resets scratch */
 PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b) {
 	const uint32_t W = r->width;
 	int32_t i, d, tx;
@@ -5057,7 +5041,7 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b) {
 	}
 }
 
-/* Draws piece's polygons of facing g in bands of 4 rows, active list sorted by first band. */
+/* Draws piece's polygons of facing g in bands of 4 rows, active list sorted by first band */
 PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
 	uint32_t *cnt = r->mband, *order = r->morder, *act = r->mact, t, m = 0, pos = 0, na = 0, b = 0, k, keep;
 	int32_t j;
@@ -5094,7 +5078,7 @@ PVS__STATIC uint32_t pvs__mesh_fbits(float f) {
 	return u;
 }
 
-/* Piece's first vertex at position p, found or added (open addressing, hs slots; 0 empty, else vertex + 1). */
+/* Piece's first vertex at position p, found or added (open addressing, hs slots: 0 empty, else vertex + 1) */
 PVS__STATIC uint32_t pvs__mesh_weld(const pvs_raster *r, uint32_t hs, const float *pos, uint32_t q, const float *p) {
 	uint32_t *tab = r->mtab;
 	uint32_t x = pvs__mesh_fbits(p[0]), y = pvs__mesh_fbits(p[1]), z = pvs__mesh_fbits(p[2]), h;
@@ -5113,8 +5097,8 @@ PVS__STATIC uint32_t pvs__mesh_weld(const pvs_raster *r, uint32_t hs, const floa
 	}
 }
 
-/* Triangle t (q: vertex indices): welds corners (r->mcid), transforms, clips, prepares (r->mt[t]), marks corners
-   against clip planes (r->mvst). r->mgrp[t]: facing, or 0 (bad, degenerate, clipped, unsure). */
+/* Triangle t (q: vertex indices): welds corners (r->mcid), transforms, clips, prepares (r->mt[t]), marks corners vs
+   clip planes (r->mvst). r->mgrp[t]: facing, or 0 (bad, degenerate, clipped, unsure) */
 PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs,
 		uint32_t t) {
 	uint32_t k, *cid = r->mcid;
@@ -5145,7 +5129,7 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
 	r->mgrp[t] = (int8_t)g;
 }
 
-/* Pairs half-edges by welded ends: r->mpart[he] = partner, PVS__MESH_NONE or PVS__MESH_MULTI (3+). */
+/* Pairs half-edges by welded ends: r->mpart[he] = partner, PVS__MESH_NONE or PVS__MESH_MULTI (3+) */
 PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
 	uint32_t t, k, h, *tab = r->mtab, *cid = r->mcid, *part = r->mpart;
 	for (h = 0; h < hs; ++h) tab[h] = 0;
@@ -5181,7 +5165,7 @@ PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
 	}
 }
 
-/* Clears boundary flag of internal edges (conditions (i)-(iii) above); leaves out polygons with none. */
+/* Clears boundary flag of internal edges (conditions (i)-(iii) above); drops polygons with none */
 PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
 	uint32_t t, *cid = r->mcid, *part = r->mpart;
 	for (t = 0; t < n; ++t) {
@@ -5205,12 +5189,12 @@ PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
 	}
 }
 
-/* ---- fast pass: each internal edge's neighbourhood and closed fan's vertex as one convex polygon of tile path */
+/* ---- fast pass: each internal edge's neighbourhood and closed fan's vertex as convex polygon of tile path */
 
-#define PVS__MESH_FAN 3.2 /* least fan radius: octagon's inradius holds pixels crossing an edge at its vertex */
+#define PVS__MESH_FAN 3.2 /* least fan radius: octagon's inradius holds pixels crossing an edge at vertex */
 #define PVS__MESH_AT(p, u, v) ((p)[2] + (p)[0] * (u) + (p)[1] * (v))
 
-/* Polygon t's depth at (ox + u, oy + v), u <= iw, v <= jh: at least PVS__MESH_AT(p, u, v). 0: none. */
+/* Polygon t's depth at (ox + u, oy + v), u <= iw, v <= jh: >= PVS__MESH_AT(p, u, v). 0: none */
 PVS__STATIC int pvs__mesh_low(const pvs__mtri *t, double ox, double oy, double iw, double jh, double p[4]) {
 	pvs__polyext x;
 	if (!pvs__poly_extent(t->x, t->y, t->z, t->n, &x) ||
@@ -5222,7 +5206,7 @@ PVS__STATIC int pvs__mesh_low(const pvs__mtri *t, double ox, double oy, double i
 	return 1;
 }
 
-/* Polygon x, y (n <= 15) where a x + b y + c >= 0 (Sutherland-Hodgman); new count. */
+/* Polygon x, y (n <= 15) where a x + b y + c >= 0 (Sutherland-Hodgman); new count */
 PVS__STATIC int pvs__mesh_clip2(double *x, double *y, int n, double a, double b, double c) {
 	double o[2][16];
 	int i, m = 0;
@@ -5237,9 +5221,9 @@ PVS__STATIC int pvs__mesh_clip2(double *x, double *y, int n, double a, double b,
 	return m;
 }
 
-/* Internal edge e of ta, partner tb: A, B cut to 1.5 (> sqrt 2) of its line, to perpendiculars inside its on-map part
+/* Internal edge e of ta, partner tb: A, B cut to 1.5 (> sqrt 2) of its line, to perpendiculars inside on-map part
    by 2 vertex errors (parts meet them at right angles along true edge: union convex); hull less vertices within 1/16
-   pixel of previous (a subset), at plane under A, B at its vertices, so under concave min(A, B). */
+   pixel of previous (subset), at plane under A, B at vertices: under concave min(A, B) */
 PVS__STATIC void pvs__mesh_edge(pvs_raster *r, uint32_t ta, int e, uint32_t tb) {
 	const pvs__mtri *A = r->mt + ta, *B = r->mt + tb, *T;
 	int i, k, n, np = 0;
@@ -5290,8 +5274,8 @@ PVS__STATIC void pvs__mesh_edge(pvs_raster *r, uint32_t ta, int e, uint32_t tb) 
 }
 
 /* Closed fan at corner k of t (all around: unclipped triangles, both edges at corner internal) covers disc of least
-   apex-to-opposite-edge distance ((iii) above): octagon in it less 3 vertex errors, radius <= 4, flat at least of
-   fan's planes there. Walked corners: bit 4 of r->mvst. */
+   apex-to-opposite-edge distance ((iii) above): octagon in it less 3 vertex errors, radius <= 4, flat at least of fan's
+   planes. Walked corners: bit 4 of r->mvst */
 PVS__STATIC void pvs__mesh_fan(pvs_raster *r, uint32_t t, uint32_t k) {
 	static const double oc[8] = {0.9238, 0.3826, -0.3826, -0.9238, -0.9238, -0.3826, 0.3826, 0.9238};
 	uint32_t c = t, j = k, o, q;
@@ -5320,7 +5304,7 @@ PVS__STATIC void pvs__mesh_fan(pvs_raster *r, uint32_t t, uint32_t k) {
 	pvs__tile_poly(r, x, y, z, 8, 0.0, 1e-12 * (1.0 + pvs__dabs(zc)), NULL);
 }
 
-/* Fast pass (tiled) over polygons pvs__mesh_internal left, but between two small ones; row pass keeps small ones. */
+/* Fast pass (tiled) over polygons pvs__mesh_internal left, but between 2 small ones (row pass keeps those) */
 PVS__STATIC void pvs__mesh_fast(pvs_raster *r, uint32_t n) {
 	uint8_t *row = (uint8_t *)r->mact;
 	uint32_t t, u, k;
@@ -5332,7 +5316,7 @@ PVS__STATIC void pvs__mesh_fast(pvs_raster *r, uint32_t n) {
 		for (e = 0; r->mgrp[t] && e < r->mt[t].n; ++e)
 			if (!r->mt[t].bnd[e] && (u = r->mpart[3 * t + r->mt[t].lab[e]] / 3) > t && !(row[t] && row[u]))
 				pvs__mesh_edge(r, t, e, u);
-	for (t = 0; t < n; ++t) /* fans of small polygons only: row pass's (walked from a large one otherwise) */
+	for (t = 0; t < n; ++t) /* fans of small polygons only: row pass's (else walked from a large one) */
 		for (k = 0; k < 3 && !row[t]; ++k) pvs__mesh_fan(r, t, k);
 	for (t = 0; t < n; ++t) {
 		for (e = any = 0; row[t] && e < r->mt[t].n; ++e)
@@ -5344,7 +5328,7 @@ PVS__STATIC void pvs__mesh_fast(pvs_raster *r, uint32_t n) {
 	}
 }
 
-/* One mesh piece, triangles r->morder[0..r->mcn): prepared and paired (rows 0), or row pass (1). */
+/* One mesh piece, triangles r->morder[0..r->mcn): prepared and paired (rows 0), or row pass (1) */
 PVS__STATIC int pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
 		const pvs__occsel *tris, int rows) {
 	uint32_t hs = 16, t, h, n = r->mcn;
@@ -5368,7 +5352,7 @@ PVS__TWIN(int, pvs__mesh_piece,
 		(pvs_raster *r, const float *p, uint32_t vc, const uint32_t *ix, const pvs__occsel *t, int rows),
 		(r, p, vc, ix, t, rows))
 
-/* Occluder meshes (`indices` NULL: vertices in order): drawn as triangles, then in pieces of mesh_cap. */
+/* Occluder meshes (`indices` NULL: vertices in order): drawn as triangles, then in mesh_cap pieces */
 PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
 		const pvs__occsel *tris, uint32_t count) {
 	uint32_t t = 0;
@@ -5525,7 +5509,7 @@ PVS_API pvs_result pvs_raster_mesh(pvs_raster *r, const float *positions, uint32
 	return pvs_raster_draw(r, &d);
 }
 
-/* Draw's pvs_raster.cull; 2 if bad (pvs_raster_draw's errors). */
+/* Draw's pvs_raster.cull; 2 if bad (pvs_raster_draw's errors) */
 PVS__STATIC int pvs__draw_cull(const pvs_raster *r, const pvs_raster_draw_desc *d) {
 	uint32_t f = d ? d->flags : 0, cull = f & (PVS_DRAW_CULL_CW | PVS_DRAW_CULL_CCW);
 	if (!r || !d || (!d->positions && d->triangle_count) || (d->stride && (d->stride < 12 || d->stride % 4)) ||
@@ -5566,7 +5550,7 @@ PVS_API void pvs_raster_draw_band(pvs_raster *r, const pvs_raster_draw_desc *dra
 	y0 = PVS__QBAND(r, band) << PVS__TH_SHIFT, y1 = (PVS__QBAND(r, band + 1) << PVS__TH_SHIFT) - 1;
 	for (p = 0; p < PVS_RASTER_PARTS; ++p)
 		for (i = r->qcount[PVS_RASTER_PARTS + p], e = i + r->qcount[p]; i < e; i += 8) {
-			/* 8 masks a word (those past e dropped; 8 spare bytes), band's bits: its triangles in order */
+			/* 8 masks a word (those past e dropped; 8 spare bytes), band's bits: triangles in order */
 			m = pvs__load64(r->qmask + i) & (0x0101010101010101ull << band) &
 				(e - i >= 8 ? ~0ull : ((uint64_t)1 << 8 * (e - i)) - 1u);
 			for (; m; m &= m - 1) {
@@ -5619,9 +5603,9 @@ PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t
 
 /* ---- depth pyramid (Durand 2000 §2.4; Greene et al. 1993), queried top-down until level decides (§6.1) */
 
-/* One pyramid level (kernel of all pyramids): texel (x, y) gets min of smin (into dmin; both may be NULL), max of
-   smax (into dmax) over texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of pw x ph level below, clamped;
-   mx, my = 1 halve that axis. `simd` (SSE2, both halved) pairs differently: same save +0/-0 ties (or NaN). */
+/* One pyramid level (kernel of all pyramids): texel (x, y) gets min of smin (into dmin; both NULL ok), max of smax
+   (into dmax) over texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of pw x ph level below, clamped; mx, my
+   = 1 halve that axis. `simd` (SSE2, both halved) pairs differently: same but +0/-0 ties (or NaN) */
 PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32_t pw, uint32_t ph, float *dmin,
 		float *dmax, uint32_t w, uint32_t h, uint32_t mx, uint32_t my, int simd) {
 	uint32_t x, y;
@@ -5663,13 +5647,13 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 	}
 }
 
-/* Tile pyramid in bands: band b < PVS_RASTER_PARTS makes, over its rows, level 0 (each tile's base, nearest value) and
-   the levels that halve rows at most 3 times (a band is whole 8-row blocks); band PVS_RASTER_PARTS the rest. Levels
-   merge 1 x 2, 2 x 1 or 2 x 2 texels (~square in pixels). */
+/* Tile pyramid in bands: band b < PVS_RASTER_PARTS makes, over its rows, level 0 (tile bases, nearest value) and levels
+   halving rows <= 3 times (a band is whole 8-row blocks); band PVS_RASTER_PARTS the rest. Levels merge 1 x 2, 2 x 1 or
+   2 x 2 texels (~square in pixels) */
 PVS__STATIC void pvs__tile_pyramid_band(pvs_raster *r, uint32_t band) {
 	uint32_t l, y0, y1, top = band == PVS_RASTER_PARTS, i;
 	float *lo = r->tlmin[0], *hi = r->tlmax[0];
-	for (i = 0; top && i < PVS_RASTER_PARTS; r->pband[i++] = 0) /* a band left out or stale: made here (misuse) */
+	for (i = 0; top && i < PVS_RASTER_PARTS; r->pband[i++] = 0) /* band left out or stale: made here (misuse) */
 		if (!r->pband[i]) pvs__tile_pyramid_band(r, i);
 	if (!top) r->pband[band] = 1; /* its thread alone writes this byte */
 	y0 = top ? 0 : (uint32_t)PVS__QBAND(r, band), y1 = top ? 0 : (uint32_t)PVS__QBAND(r, band + 1);
@@ -5711,7 +5695,7 @@ PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
 	r->pyramid_valid = 1;
 }
 
-/* 1 if level-0 pixel of [x0, x1] x [y0, y1] under texel (tx, ty) of level l stores depth <= d. */
+/* 1 if level-0 pixel of [x0, x1] x [y0, y1] under texel (tx, ty) of level l stores depth <= d */
 PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, int32_t x0, int32_t y0,
 		int32_t x1, int32_t y1, float d) {
 	uint32_t w = r->lw[l];
@@ -5734,7 +5718,7 @@ PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t t
 	return 0;
 }
 
-/* pvs__pyramid_visible on tile pyramid; at tile, layer mask decides exactly. px: pixels, tr: their tiles. */
+/* pvs__pyramid_visible on tile pyramid; at tile, layer mask decides. px: pixels, tr: their tiles */
 PVS__STATIC int pvs__tpyr_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *px,
 		const uint32_t *tr, float d) {
 	uint32_t w = r->tlw[l], cx, cy, cx0, cx1, cy0, cy1;
@@ -5806,20 +5790,20 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
 
 /* ---- float box tests: 8 corners in 2 SIMD registers, with error bounds. Clip coordinate c_r = m_r . (p, 1) errs <=
    4.01 u S_r (u = 2^-24, S_r = (|m_r0| + |m_r1| + |m_r2|) max |p| + |m_r3|); E_r = 8 u S_r also covers compared
-   differences. Corner with w > 2 E_w has true w >= 3/4 of computed one, so x/w errs <= 2/3 (E_x + |x/w| E_w) / w +
+   differences. Corner with w > 2 E_w has true w >= 3/4 of computed one: x/w errs <= 2/3 (E_x + |x/w| E_w) / w +
    division; per-box maxima widen rectangle, raise depth. S_r > 1e30: double path. ---- */
 
-/* From corners, all in front: screen extremes, nearest depth, max 1 / w, |x / w|, |y / w|, |z / w|. */
+/* Corners all in front: screen extremes, nearest depth, max 1 / w, |x / w|, |y / w|, |z / w| */
 typedef struct pvs__boxf {
 	float xmin, xmax, ymin, ymax, zmax, rmax, nx, ny, nz;
 } pvs__boxf;
 
-/* One box's thresholds: E_x, E_y, E_z, E_w, E_w + E_z, E_x + E_w, E_y + E_w, 2 E_w. */
+/* One box's thresholds: E_x, E_y, E_z, E_w, E_w + E_z, E_x + E_w, E_y + E_w, 2 E_w */
 typedef struct pvs__boxe {
 	float e[4], nz, xw, yw, w2;
 } pvs__boxe;
 
-/* 0 surely invisible, 1 may reach behind near plane (visible), 2 *o filled, -1 not finite (caller falls back). */
+/* 0 surely invisible, 1 may reach behind near plane (visible), 2 *o filled, -1 non-finite (caller falls back) */
 PVS__STATIC int pvs__box_scalar(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
 	const float *m = r->mf;
 	float c[8][4];
@@ -5923,8 +5907,8 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 }
 #endif
 
-/* Double to float >= it, no libm: margins (v >= 0); any finite v (rounded down: up one step; |f| 2^-23 + least
-   subnormal covers gap). */
+/* Double to float >= it, no libm: margins (v >= 0); any finite v (rounded down: up a step; |f| 2^-23 + least subnormal
+   covers gap) */
 PVS__STATIC float pvs__f_up_pos(double v) { return (float)(v * (1.0 + 4.76837158203125e-07) + 1e-37); }
 PVS__STATIC float pvs__f_up_fast(double v) {
 	float f = (float)v;
@@ -5932,7 +5916,7 @@ PVS__STATIC float pvs__f_up_fast(double v) {
 	return f;
 }
 
-/* Float box test; -1: use double path. */
+/* Float box test; -1: use double path */
 PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t rect[4], float *dnear) {
 	pvs__boxe E;
 	pvs__boxf o = {0, 0, 0, 0, 0, 0, 0, 0, 0};
@@ -5988,7 +5972,7 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
 	return 2;
 }
 
-/* 0 invisible, 1 maybe visible (behind near plane, untested), 2 *rect (clamped pixels), *dnear (nearest depth) set. */
+/* 0 invisible, 1 maybe visible (behind near plane, untested), 2 *rect (clamped pixels), *dnear (nearest depth) */
 PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t rect[4], float *dnear) {
 	double xmin = DBL_MAX, xmax = -DBL_MAX, ymin = DBL_MAX, ymax = -DBL_MAX, dmax = -DBL_MAX, mag = 0.0, dx, perr = 0.0,
 		   zerr = 0.0;
@@ -6021,7 +6005,7 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 	}
 	if (behind_near == 8 || behind_w == 8) return 0;
 	{
-		/* wholly outside side plane (-w <= x, y <= w): off screen, whatever its w */
+		/* wholly outside side plane (-w <= x, y <= w): off screen, whatever w */
 		int side;
 		for (side = 0; side < 4; ++side) {
 			int out = 0, ax = side >> 1;
@@ -6073,7 +6057,7 @@ PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
 /* ---- context */
 
 /* Context's buffers (pvs__buf) of `groups` (bits): 1 pixels, 2 tiles, 4 occluder selection, 8 meshes, 16 scene sweeps,
-   32 cull map, 64 its items; sized by fields set before each group. */
+   32 cull map, 64 its items; sized by fields set before each group */
 #define PVS__RASTER_BUFS 32
 PVS__STATIC int pvs__raster_bufs(pvs_raster *r, pvs__buf *b, unsigned groups) {
 	int k = 0;
@@ -6138,7 +6122,7 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
 	pvs__free(&a, r, sizeof(*r), 16);
 }
 
-/* Cull map cell range of box (clamped); 0 unless wholly in region. */
+/* Cull map cell range of box (clamped); 0 unless wholly in region */
 PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int32_t *i0, int32_t *j0, int32_t *i1,
 		int32_t *j1) {
 	int u, v;
@@ -6161,7 +6145,7 @@ PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int
 }
 
 /* Per-pixel map, 8 x 8 tile minima, pyramid (Durand 2000 §2.4: levels halve to 1 x 1; min, max planes). 0: OOM;
-   pvs_raster_destroy frees rest (also below). */
+   pvs_raster_destroy frees rest (also below) */
 PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
 	uint32_t l, w, h;
 	size_t floats = 0;
@@ -6190,7 +6174,7 @@ PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
 	return 1;
 }
 
-/* Tiles, their 8 x 8 blocks, tile pyramid (levels halve x, y or both; texels ~square in pixels). */
+/* Tiles, their 8 x 8 blocks, tile pyramid (levels halve x, y or both; texels ~square in pixels) */
 PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 	uint32_t l, w, h;
 	size_t floats;
@@ -6229,7 +6213,7 @@ PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 	return 1;
 }
 
-/* Mesh scratch for pieces of `max_triangles` (0: default; <= 2^24); hash load <= 1/2. */
+/* Mesh scratch, pieces of `max_triangles` (0: default; <= 2^24); hash load <= 1/2 */
 PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 	size_t i;
 	r->mesh_cap = !max_triangles ? 4096u : max_triangles < 8 ? 8 : max_triangles;
@@ -6244,7 +6228,7 @@ PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 	return 1;
 }
 
-/* Cull map object grid: w x h ground cells (Wonka 1999 §4.1), highest top per cell (§4.3). */
+/* Cull map object grid: w x h ground cells (Wonka 1999 §4.1), highest top per cell (§4.3) */
 PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h,
 		pvs_error *err) {
 	int u, v, up = (int)s->up_axis;
@@ -6383,7 +6367,7 @@ typedef struct pvs__selctx {
 	uint32_t k, n;
 } pvs__selctx;
 
-/* k best triangles (pvs__topk_offer: root = weakest kept). */
+/* k best triangles (pvs__topk_offer: root = weakest kept) */
 PVS__STATIC int pvs__occsel_before(const void *a, const void *b) {
 	return ((const pvs__occsel *)a)->score > ((const pvs__occsel *)b)->score;
 }
@@ -6394,14 +6378,14 @@ PVS__STATIC void pvs__occ_push(pvs__occsel *h, uint32_t *n, uint32_t k, float sc
 	pvs__topk_offer(h, n, k, sizeof(e), &e, pvs__occsel_before);
 }
 
-/* Area-angle measure A |N . V| / |D|^2 (Bittner 2002 §4.5), V unit direction to centre D, two-sided. */
+/* Area-angle measure A |N . V| / |D|^2 (Bittner 2002 §4.5), V unit direction to centre D, two-sided */
 PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 		uint32_t count) {
 	pvs__selctx *c = (pvs__selctx *)user;
 	uint32_t i;
 	if (distance > c->max_dist) return PVS_VISIT_STOP;
-	/* heap full, nothing unseen can enter: unseen triangle's centre lies beyond `distance` (every leaf its box overlaps
-	   lists it), so scores <= area / distance^2 (rounded up) */
+	/* heap full, nothing unseen can enter: unseen triangle's centre is beyond `distance` (every leaf its box overlaps
+	   lists it): scores <= area / distance^2 (rounded up) */
 	if (c->n == c->k && distance > 0.0f &&
 		c->s->max_triangle_area * 1.0001 / ((double)distance * distance * 0.9999) < (double)c->r->occ[0].score)
 		return PVS_VISIT_STOP;
@@ -6468,7 +6452,7 @@ PVS__STATIC pvs_visit pvs__cull_visit(void *user, const pvs_box *node_box, float
 	return PVS_VISIT_DESCEND;
 }
 
-/* Checks shared by both culling calls; sets camera matrix. */
+/* Checks shared by both culling calls; sets camera matrix */
 PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, pvs_word *visible,
 		pvs_error *err) {
 	float m[16];
@@ -6487,15 +6471,15 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
 	return PVS_OK;
 }
 
-/* p->occluder_distance, or (p NULL or 0) 1/10 of scene's longest side: culling in any unit */
+/* p->occluder_distance, or (p NULL or 0) 1/10 of scene's longest side: works in any unit */
 PVS__STATIC float pvs__cull_distance(const pvs_scene *s, const pvs_cull_params *p) {
 	const pvs_box *b = &s->bounds;
 	double e = pvs__dmax(b->max[0] - b->min[0], pvs__dmax(b->max[1] - b->min[1], b->max[2] - b->min[2]));
 	return p && p->occluder_distance > 0.0f ? p->occluder_distance : e > 0.0 ? (float)(0.1 * e) : 1.0f;
 }
 
-/* Draws <= p->scene_occluders triangles within p->occluder_distance, best first by Bittner 2002 §4.5's measure; meshes
-   with PVS_CULL_SCENE_MESH. Returns count. */
+/* Draws <= p->scene_occluders triangles within p->occluder_distance, best first (Bittner 2002 §4.5's measure); meshes
+   with PVS_CULL_SCENE_MESH; count */
 PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
 		const pvs_cull_params *p) {
 	pvs__selctx sc;
@@ -6522,7 +6506,7 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	return sc.n;
 }
 
-/* Wall j of extrusion o as quad a0 b0 b1 a1 (u, v ground axes). */
+/* Wall j of extrusion o as quad a0 b0 b1 a1 (u, v ground axes) */
 PVS__STATIC void pvs__wall_quad(const pvs_occluder_desc *o, uint32_t j, int u, int v, int up, float q[4][3]) {
 	const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
 	q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
@@ -6531,7 +6515,7 @@ PVS__STATIC void pvs__wall_quad(const pvs_occluder_desc *o, uint32_t j, int u, i
 	q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
 }
 
-/* Extrusion walls as occluders: meshes of <= 32 walls sharing vertical edges, unless `separate`. Returns triangles. */
+/* Extrusion walls as occluders: meshes of <= 32 walls sharing vertical edges, unless `separate`. Returns triangles */
 PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc *o, int u, int v, int up,
 		int separate) {
 	uint32_t j, drawn = 0;
@@ -6564,7 +6548,7 @@ PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc 
 	return drawn;
 }
 
-/* Occluder volumes within p->occluder_distance (meshes unless PVS_CULL_SEPARATE_TRIANGLES); returns triangles. */
+/* Occluder volumes within p->occluder_distance (meshes unless PVS_CULL_SEPARATE_TRIANGLES); returns triangles */
 PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
 		const pvs_cull_params *p) {
 	static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
@@ -6639,7 +6623,7 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
 
 /* ---- cull map (Wonka & Schmalstieg 1999) */
 
-/* Ground polygon x, y (scene units, overwritten) at heights z into cull map, inner coverage (§4.4). */
+/* Ground polygon x, y (scene units; overwritten) at heights z into cull map, inner coverage (§4.4) */
 PVS__STATIC void pvs__cm_draw(pvs_raster *r, double *x, double *y, const double *z, int n, int simd) {
 	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
 	int k;
@@ -6649,14 +6633,14 @@ PVS__STATIC void pvs__cm_draw(pvs_raster *r, double *x, double *y, const double 
 	}
 	pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, n, 1, simd, 0.0, 0.0);
 }
-/* > distance from eye (ou, ov) to any map point (§4.2). */
+/* > distance from eye (ou, ov) to any map point (§4.2) */
 PVS__STATIC double pvs__cm_reach(const pvs_raster *r, double ou, double ov) {
 	return 2.0 * ((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] +
 			pvs__dabs(ou - r->region[0]) + pvs__dabs(ov - r->region[1]));
 }
 
 /* Shadow of facade a-b (height `top`) from eye o = (ou, ov, eh) (§3.1): ground quad a, b, b + t (b - o), a + t (a -
-   o), far edge off map (§4.2), heights: plane of eye, top edge; inner coverage at cells' lowest height (§4.4). */
+   o), far edge off map (§4.2), heights: plane of eye, top edge; inner coverage at cells' lowest height (§4.4) */
 PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, const float *a, const float *b,
 		double top, int simd) {
 	double da[2], db[2], la, lb, reach, sa, sb, x[4], y[4], z[4];
@@ -6675,7 +6659,7 @@ PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, 
 	pvs__cm_draw(r, x, y, z, 4, simd);
 }
 
-/* Plane through eye and horizontal edge a-b at height `top`, as heights over ground; 0 if vertical. */
+/* Plane through eye and horizontal edge a-b at height `top`, as heights over ground; 0: vertical */
 PVS__STATIC int pvs__cm_plane(double ou, double ov, double eh, const double *a, const double *b, double top,
 		double pl[3]) {
 	double a0 = a[0] - ou, a1 = a[1] - ov, b0 = b[0] - ou, b1 = b[1] - ov, dh = top - eh;
@@ -6693,8 +6677,8 @@ PVS__STATIC double pvs__cm_height(const double pl[3], double ou, double ov, doub
 
 /* Seam at v between casting facades p-v, v-q: sampling correction shrinks both shadows, uncovering cells along shadow
    ray through v (Wonka 1999 §5). Wedge between rays through a' on p-v and b' on v-q (~2 cells from v), beyond a'-v-b',
-   lies in union, at height A on A's side of ray, B on B's. A - B changes sign across it: A is lower bound if A >= B on
-   A's side (ridge), else min corner value of concave min(A, B). */
+   lies in union, height A on A's side of ray, B on B's. A - B changes sign across it: A is lower bound if A >= B on A's
+   side (ridge), else min corner value of concave min(A, B) */
 PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf,
 		const float *qf, double top, int simd) {
 	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
@@ -6738,7 +6722,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 	pvs__cm_draw(r, x, y, z, 5, simd);
 }
 
-/* 1 if facade a-b casts: front-facing for closed chains (§4.2), not nearer than min_dist. */
+/* 1 if facade a-b casts: front-facing for closed chains (§4.2), not nearer than min_dist */
 PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *b, int closed, double area2,
 		double min_dist) {
 	if (closed) {
@@ -6758,7 +6742,7 @@ PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *
 	return 1;
 }
 
-/* One chain: each casting facade's shadow, seams between consecutive ones. */
+/* One chain: each casting facade's shadow, seams between consecutive ones */
 PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *pts, uint32_t n, int closed, float base,
 		float top, int simd, double min_dist) {
 	double area2 = 0.0, limit = pvs__dmin(eye[2], r->ground);
@@ -6788,7 +6772,7 @@ PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *
 		pvs__cm_seam(r, eye[0], eye[1], eye[2], pts + 2 * (n - 1), pts, pts + 2, top, simd);
 }
 
-/* Builds cull map, skipping facades nearer than min_dist to eye (ground plane). */
+/* Builds cull map, skipping facades within min_dist of eye (ground plane) */
 PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
 		uint32_t chain_count, uint32_t flags, double min_dist) {
 	double e[3];
@@ -6911,11 +6895,11 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 /* ==== otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7) ==== */
 /* BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through R^3's origin, images p* of points p
    (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 if p left of l). Leaves: out (unblocked), in (blocked by
-   payload: 2D nearest occluder; 2.5D those maybe seen over). Line sets: convex polygons of unit vectors; edge keeps
-   point of its plane, marked if on path (§4.10.1): out-leaf becomes e-OT of unmarked edges (§3.3.3). Conservative:
-   exact planes through stored points bound regions; insertion drops only blocked slivers; read-only tests split with
-   slack; ambiguous depth order: visible. Doubles, cell-centred. Users: pvs_visibility_2d (exact, ch. 6),
-   pvs_visibility_25d (c-LSS, ch. 7), OTREE bake; pvs_otree_cull (ch. 4): own 3D kernel. */
+   payload: 2D nearest occluder; 2.5D those maybe seen over). Line sets: convex polygons of unit vectors; edge keeps its
+   plane's point, marked if on path (§4.10.1): out-leaf becomes e-OT of unmarked edges (§3.3.3). Conservative: exact
+   planes via stored points bound regions; insertion drops only blocked slivers; read-only tests split with slack;
+   ambiguous depth order: visible. Doubles, cell-centred. Users: pvs_visibility_2d (exact, ch. 6), pvs_visibility_25d
+   (c-LSS, ch. 7), OTREE bake; pvs_otree_cull (ch. 4): own 3D kernel */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT25_WITNESSES 16
@@ -6981,7 +6965,7 @@ PVS__STATIC void pvs__ot_free(pvs__otree *t) {
 	t->node_cap = t->seq_cap = t->stack_cap = 0;
 }
 
-/* Resets to whole line set: one out-leaf (§3.3.2). */
+/* Resets to whole line set: one out-leaf (§3.3.2) */
 PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
 	t->node_count = t->seq_count = t->stack_count = 0;
 	if (!pvs__grow(t->a, (void **)&t->nodes, &t->node_cap, 1, sizeof(pvs__otnode))) { t->oom = 1; return 0; }
@@ -7017,7 +7001,7 @@ PVS__STATIC void pvs__ot_copy(pvs__otpoly *d, const pvs__otpoly *s) {
 	}
 }
 
-/* Room for `need` items in all 4 arrays; new slots numbered. */
+/* Room for `need` items in all 4 arrays; new slots numbered */
 PVS__STATIC int pvs__ot_reserve(pvs__otree *t, size_t need) {
 	size_t c1 = t->stack_cap, c2 = t->stack_cap, c3 = t->stack_cap, c4 = t->stack_cap, i;
 	if (need <= t->stack_cap) return 1;
@@ -7055,7 +7039,7 @@ PVS__STATIC uint32_t pvs__ot_pop(pvs__otree *t, pvs__otpoly *q) {
 
 /* ---- line-space kernel (§6.4, §6.8) */
 
-/* Oriented line u -> v = (u,1) x (v,1), normalised; 0 if u == v. */
+/* Oriented line u -> v = (u,1) x (v,1), normalised; 0: u == v */
 PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3]) {
 	double len;
 	l[0] = u[1] - v[1];
@@ -7065,14 +7049,14 @@ PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3
 	if (len > 0.0) { l[0] /= len; l[1] /= len; l[2] /= len; }
 	return len;
 }
-/* Signed side of p for line l, scaled (unit lines compare). */
+/* Signed side of p for line l, scaled (unit lines compare) */
 PVS__STATIC double pvs__ot_side(const double l[3], const double p[2]) {
 	return (l[0] * p[0] + l[1] * p[1] + l[2]) / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
 }
 
 #define PVS__OT_EPS 1e-12
 
-/* out = normalised a + t (b - a), stored last (may alias a, b). */
+/* out = normalised a + t (b - a), stored last (may alias a, b) */
 PVS__STATIC void pvs__ot_lerp_unit(const double *a, const double *b, double t, double *out) {
 	double x0 = a[0] + t * (b[0] - a[0]), x1 = a[1] + t * (b[1] - a[1]), x2 = a[2] + t * (b[2] - a[2]);
 	double len = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
@@ -7080,7 +7064,7 @@ PVS__STATIC void pvs__ot_lerp_unit(const double *a, const double *b, double t, d
 	out[0] = x0; out[1] = x1; out[2] = x2;
 }
 
-/* Unit normal of plane sign * p* = sign * (p.x, p.y, 1): n . l = sign * side(l, p). */
+/* Unit normal of plane sign * p* = sign * (p.x, p.y, 1): n . l = sign * side(l, p) */
 PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 	double f = sign / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
 	n[0] = p[0] * f;
@@ -7088,8 +7072,8 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 	n[2] = f;
 }
 
-/* Clips `in` to n . l >= -slack (0: exact half), n unit normal of p's plane; new edges marked `mark`. Returns vertex
-   count (0 empty, -1 too many). */
+/* Clips `in` to n . l >= -slack (0: exact half), n: p's plane's unit normal; new edges marked `mark`. Returns vertex
+   count (0 empty, -1 overflow) */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
 		pvs__otpoly *out) {
 	double d[PVS__OT_MAXV + 1];
@@ -7129,8 +7113,8 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	out->n = m;
 	return m;
 }
-/* 2.5D witness lines: read-only test reaching out-leaf keeps its polygon's normalised vertex sum; dropped later in
-   in-leaf. */
+/* 2.5D witness lines: read-only test reaching out-leaf keeps polygon's normalised vertex sum; dropped in later
+   in-leaf */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	double w[3] = {0, 0, 0}, len;
 	int i;
@@ -7143,7 +7127,7 @@ PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 }
 
 /* 2.5D: 1 if nd's subtree hides all points >= `near` from cell, <= h high (pvs__ot25_bound); near < 0 (2D): 0.
-   Evaluates nd 2x. */
+   Evaluates nd 2x */
 #define PVS__OT25_HIDDEN(t, nd, near, h) \
 	(((near) > (nd)->mr || (near) > (nd)->ml) && pvs__ot25_hidden_below_at(t, nd, near, h))
 PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
@@ -7162,7 +7146,7 @@ PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode
 }
 
 /* Insertion at inner node (§3.3.3), top item in place: edges on node's plane marked (§4.10.1), polygon to child or
-   split; child whose subtree hides occluder (2.5D, near >= 0) gets none. 2.5D descends one-sided nodes here. */
+   split; child whose subtree hides occluder (2.5D, near >= 0) gets none; 2.5D descends one-sided nodes here */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q = PVS__OT_ITEM(t, top);
 	const pvs__otnode *nd;
@@ -7211,7 +7195,7 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 }
 
 /* Read-only test at inner node (§3.3.4), top item in place: polygon within 1e-12 of plane on one side goes there, else
-   each side gets part widened by 1e-12. 1 if surely visible (2.5D: straddled child out-leaf) or OOM (then visible). */
+   each side gets part widened by 1e-12. 1 if surely visible (2.5D: straddled child out-leaf) or OOM */
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q;
 	const pvs__otnode *nd;
@@ -7242,7 +7226,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 		t->stack_node[top] = c;
 		if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return 0;
 	}
-	/* 2.5D (no sliver rule): both parts have vertex strictly off plane: out-leaf child answers; its part's line is
+	/* 2.5D (no sliver rule): both parts have vertex strictly off plane: out-leaf child answers; its part's line:
 	   witness (pvs__ot25_witnessed) */
 	if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
 		int out1 = t->nodes[c1].kind == PVS__OT_OUT;
@@ -7278,7 +7262,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 	return 0;
 }
 
-/* Pays item `top`'s owed clip (pvs__ot_test_inner): part on `side` of plane, widened 1e-12; 0 if empty (pop). */
+/* Pays item `top`'s owed clip (pvs__ot_test_inner): part on `side` of plane, widened 1e-12; 0: empty (pop) */
 PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	uint32_t pend = t->stack_pend[top];
 	const pvs__otnode *nd = t->nodes + (pend >> 1);
@@ -7298,8 +7282,8 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	return 1;
 }
 
-/* Blocker polygon B(S, O) (§6.4.3): lines via S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, edge in plane of
-   its lines' shared point. Coincident vertices merge into Fig. 6.5's triangle. 0 if degenerate (no measure). */
+/* Blocker polygon B(S, O) (§6.4.3): lines via S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, edge in its
+   lines' shared point's plane. Coincident vertices merge into Fig. 6.5's triangle. 0: degenerate (no measure) */
 PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2],
 		pvs__otpoly *q) {
 	const double *from[4], *to[4], *pt[4];
@@ -7383,14 +7367,14 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 	return 1;
 }
 
-/* Line through segment s (4 doubles) for pvs__ot_hit_m: m[0..2] = (s0, 1) x (s1, 1), m[3] = |(m0, m1)|. */
+/* Line through segment s (4 doubles) for pvs__ot_hit_m: m[0..2] = (s0, 1) x (s1, 1), m[3] = |(m0, m1)| */
 PVS__STATIC void pvs__ot_hit_line(const double *s, double m[4]) {
 	m[0] = s[1] - s[3];
 	m[1] = s[2] - s[0];
 	m[2] = s[0] * s[3] - s[1] * s[2];
 	m[3] = sqrt(m[0] * m[0] + m[1] * m[1]);
 }
-/* Parameter on line l (direction (l1, -l0)) at segment line m (pvs__ot_hit_line); 0: ~parallel or coincident. */
+/* Parameter on line l (direction (l1, -l0)) at segment line m (pvs__ot_hit_line); 0: ~parallel or coincident */
 PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
 	double x, y, w, dx = l[1], dy = -l[0], dn = m[3];
 	x = l[1] * m[2] - l[2] * m[1];
@@ -7401,7 +7385,7 @@ PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
 	return 1;
 }
 
-/* Parameter on segment s (0, 1 at ends) where line l crosses its line; 0 if parallel. */
+/* Parameter on segment s (0, 1 at ends) where line l crosses its line; 0: parallel */
 PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
 	double dx = s[2] - s[0], dy = s[3] - s[1];
 	double a = l[0] * s[0] + l[1] * s[1] + l[2], b = l[0] * dx + l[1] * dy;
@@ -7410,7 +7394,7 @@ PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
 	return 1;
 }
 
-/* Crossing X of 2 segments' lines; 0 if parallel. */
+/* Crossing X of 2 segments' lines; 0: parallel */
 PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 	double d1x = s[2] - s[0], d1y = s[3] - s[1], d2x = r[2] - r[0], d2y = r[3] - r[1];
 	double den = d1x * d2y - d1y * d2x, u;
@@ -7421,8 +7405,8 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 	return 1;
 }
 
-/* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k clearly in front of j, clearly
-   behind. Neither: ties (lines via X or shared end), vertex lines missing segment (rounding sliver). */
+/* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k clearly in front of j, behind.
+   Neither: ties (lines via X or shared end), vertex lines missing segment (rounding sliver) */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk,
 		int *front, int *behind) {
 	int i, have_x;
@@ -7443,7 +7427,7 @@ PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const 
 	}
 }
 
-/* Splits leaf `node` by p's plane; returns side `sign * side(p) > 0`. */
+/* Splits leaf `node` by p's plane; returns side `sign * side(p) > 0` */
 PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const double p[2], double sign) {
 	uint32_t neg = pvs__ot_new_node(t), pos = pvs__ot_new_node(t);
 	pvs__otnode old;
@@ -7463,7 +7447,7 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 }
 
 /* Turns leaf `node` into chain of q's unmarked edges (e-OT, §3.3.3): split by each edge's plane, q's side going on,
-   others keep leaf's kind, payload. Returns q's node, PVS__OT_NONE if OOM. */
+   others keeping leaf's kind, payload. Returns q's node, PVS__OT_NONE: OOM */
 PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
 	double cen[3] = {0, 0, 0};
 	int i, k;
@@ -7473,7 +7457,7 @@ PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otp
 	return node;
 }
 
-/* Gives leaf `node` payload seq[old_first..+old_count), then `add`. */
+/* Gives leaf `node` payload seq[old_first..+old_count), then `add` */
 PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count,
 		uint32_t add) {
 	size_t first = t->seq_count;
@@ -7490,7 +7474,7 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
 
 /* ---- 2D from-region (ch. 6): insertion with §6.5.1's 4 depth cases */
 
-/* §6.5.1 case 3: q split at crossing X = x (marked), pushed at `node` as 2 halves. 0: OOM. */
+/* §6.5.1 case 3: q split at crossing X = x (marked), 2 halves pushed at `node`. 0: OOM */
 PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, const double x[2]) {
 	pvs__otpoly part;
 	double n[3];
@@ -7503,7 +7487,7 @@ PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, co
 	return ok;
 }
 
-/* Inserts occluder k's blocker polygon (§3.3.3 with 2D in-leaf cases). */
+/* Inserts occluder k's blocker polygon (§3.3.3 with 2D in-leaf cases) */
 PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
@@ -7544,7 +7528,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 }
 
 /* Thickness: min over edges of max vertex distance from edge's plane. Slivers (~1e-12, insertion rounding) under
-   PVS__OT_SLIVER (radians at unit distance): below resolution. */
+   PVS__OT_SLIVER (radians at unit distance): below resolution */
 #define PVS__OT_SLIVER 1e-10
 PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 	double th = DBL_MAX;
@@ -7566,7 +7550,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 
 /* ---- shared driver pieces */
 
-/* Clips segment s to open half-plane right of a -> b; 0: empty; *on_line: end moved onto line (1 first, 2 second). */
+/* Clips segment s to open half-plane right of a -> b; 0: empty; *on_line: end moved onto line (1: first, 2: second) */
 PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4],
 		int *on_line) {
 	double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
@@ -7586,7 +7570,7 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 }
 
 /* Blockers of source edge a -> b (lines leaving right) and clipped segment o: 1, or 2 if o's line crosses edge at x
-   (Fig. 6.5). Returns count; *degenerate: nonempty line set unrepresentable. */
+   (Fig. 6.5). Returns count; *degenerate: non-empty line set unrepresentable */
 PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
 		pvs__otpoly out[2], int *degenerate) {
 	double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
@@ -7622,7 +7606,7 @@ PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
 	qy = s[1] + u * dy - p[1];
 	return qx * qx + qy * qy;
 }
-/* Max squared distance from pts (2 doubles each) to end of segment s. */
+/* Max squared distance from pts (2 doubles each) to end of segment s */
 PVS__STATIC double pvs__ot_far2(const double *pts, uint32_t n, const double *s) {
 	double far2 = 0.0;
 	uint32_t i, m;
@@ -7633,12 +7617,12 @@ PVS__STATIC double pvs__ot_far2(const double *pts, uint32_t n, const double *s) 
 		}
 	return far2;
 }
-/* CCW corners of rectangle b (umin vmin umax vmax) grown by g > 0. */
+/* CCW corners of rectangle b (umin vmin umax vmax) grown by g > 0 */
 PVS__STATIC void pvs__ot_rect(const double *b, double g, double c[8]) {
 	c[0] = b[0] - g; c[1] = b[1] - g; c[2] = b[2] + g; c[3] = b[1] - g;
 	c[4] = b[2] + g; c[5] = b[3] + g; c[6] = b[0] - g; c[7] = b[3] + g;
 }
-/* poly: closed, convex, CCW, n vertices. */
+/* poly: closed, convex, CCW, n vertices */
 PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *poly, uint32_t n) {
 	double t0 = 0.0, t1 = 1.0, dx = s[2] - s[0], dy = s[3] - s[1];
 	uint32_t i;
@@ -7660,7 +7644,7 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 }
 
 /* Max visibility distances (§6.5.5), bottom-up: out-leaves unbounded, in-leaves stored occluder's max cell-point
-   distance. */
+   distance */
 PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
 	size_t i;
 	for (i = t->node_count; i-- > 0;) {
@@ -7696,7 +7680,7 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 /* ---- 2D from-region API (ch. 6) */
 
 /* Cell polygon `in` (n >= 3) centred at vertex mean (*cx, *cy), made CCW, into `cell` (2 n doubles). PVS_OK, or
-   BAD_CELL (in err) if no area or not convex. */
+   BAD_CELL (in err): no area or not convex */
 PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy,
 		pvs_error *err) {
 	double area = 0.0;
@@ -7727,8 +7711,8 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 	return PVS_OK;
 }
 
-/* MVD distances (§6.5.5) of `count` segments to cell (n vertices), rounded outward by len_eps: reach[i] max distance
-   from segment i to cell point, near[i] min (0 if they meet). */
+/* MVD distances (§6.5.5) of `count` segments to cell (n vertices), rounded outward by len_eps: reach[i]: max distance
+   from segment i to cell point, near[i] min (0: they meet) */
 PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
 		double *reach, double *near) {
 	uint32_t i, k;
@@ -7750,7 +7734,7 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 }
 
 /* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert. test 1, exact re-test: 1
-   if it meets cell, is point, degenerate from cell edge, or line from edge reaches it past occluders. */
+   if it meets cell, is point, degenerate from cell edge, or line from edge reaches it past occluders */
 PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
 		double near, int test) {
 	uint32_t k;
@@ -7871,9 +7855,9 @@ done:
 	  member's line;
    2. in (s, h), s along line, vertex s values cut slabs (cross-section bounds linear): connected sets of triangles
 	  overlapping (within tol) at both slab ends cover [min_j max(lo_j), max_j min(hi_j)] (lo_j, hi_j at ends);
-   3. adjacent slabs with equal intervals (within tol) make facade: segment, heights [bottom, top] it fully covers.
-   Conservative up to tol (8 float epsilons of scene coordinates); heights round inward. Writes *count facades (u0 v0
-   u1 v1 top bottom) into new *out (allocator a, *out_floats floats), *vertical: vertical triangles; OOM: *out NULL. */
+   3. adjacent slabs with equal intervals (within tol): facade, segment and heights [bottom, top] it fully covers.
+   Conservative up to tol (8 float epsilons of scene coordinates); heights rounded inward. Writes *count facades (u0 v0
+   u1 v1 top bottom) into new *out (allocator a, *out_floats floats), *vertical: vertical triangles; OOM: *out NULL */
 #define PVS__FX_MAX_COVER 512 /* slabs under more triangles left out (conservative) */
 #define PVS__OT25_LEVELS 8 /* facade base heights OTREE tells apart (pvs__otree_prepare) */
 
@@ -7900,7 +7884,7 @@ PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, u
 	return 1;
 }
 
-/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from smaller-s end (shared edges agree). */
+/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from smaller-s end (shared edges agree) */
 PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, double *lo, double *hi) {
 	int i;
 	*lo = DBL_MAX; *hi = -DBL_MAX;
@@ -7920,7 +7904,7 @@ PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, d
 	}
 }
 
-/* Extraction scratch (nv vertical triangles), output. */
+/* Extraction scratch (nv vertical triangles), output */
 typedef struct pvs__fxwork {
 	const pvs_scene *sc;
 	const pvs_allocator *a;
@@ -7938,8 +7922,8 @@ typedef struct pvs__fxwork {
 	uint32_t *count;
 } pvs__fxwork;
 
-/* Step 1's vertical test: ground points collinear within tol, ground length, height > tol. Per vertical triangle slot
-   tl = (theta in [0, pi), offset n . g, n = (-d1, d0), d0, d1, ground length), vt = triangle. Returns slots. */
+/* Step 1's vertical test: ground points collinear within tol, ground length, height > tol. Per vertical triangle: slot
+   tl = (theta in [0, pi), offset n . g, n = (-d1, d0), d0, d1, ground length), vt = triangle. Returns slots */
 PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up, double tol, double *tl, uint32_t *vt) {
 	uint32_t t, k, nv = 0;
 	for (t = 0; t < sc->triangle_count; ++t) {
@@ -7976,7 +7960,7 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 }
 
 /* Step 1's group: mem's slots as (s, h) triangles into w->sv on longest member's line (ties: lower slot), less those
-   over tol from it. Returns count kept. */
+   over tol from it; count kept */
 PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem,
 		uint32_t n) {
 	uint32_t ref = mem[0].index, nm = 0, i, k;
@@ -8010,8 +7994,8 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
 }
 
 /* Steps 2-3 on slab [sa, sb] (ground points ga, gb), members w->act[0..use): connected sets (step 2, BFS), their
-   intervals, each continuing open facade ending at sa with equal interval (within tol) or opening one; rest emitted. 0:
-   OOM. */
+   intervals, each continuing open facade ending at sa with equal interval (within tol), or opening one; rest emitted.
+   0: OOM */
 PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
 		const double gb[2]) {
 	double tol = w->tol, *sec = w->sec;
@@ -8070,7 +8054,7 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 }
 
 /* Steps 2-3 along line of nm members (w->sv): slabs between consecutive vertex s, members spanning each; emits
-   still-open facades. 0: OOM. */
+   still-open facades. 0: OOM */
 PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 	pvs__key_index *so = w->so;
 	const double *sv = w->sv;
@@ -8171,7 +8155,7 @@ done:
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) */
 
-/* Proving hidden things hidden dominates cost (tests/BENCHMARKS.md, otree). */
+/* Proving hidden things hidden dominates cost (tests/BENCHMARKS.md, otree) */
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* per-occluder doubles (pvs__ot25_prepare) */
@@ -8181,7 +8165,7 @@ done:
 /* Hidden-height bound (§6.5.5's max visibility distance, 2.5D): in-leaf's lines cross every member j. Ray from eye <=
    H = t->eye high over j (top h_j > H) rises at slope >= s = (h_j - H) / reach_j: points >= n > reach_j from cell,
    lower than H + s n, hidden. Leaves keep steepest member (mr = reach, ms = s), inner nodes children's max reach, min
-   slope; none (DBL_MAX) over out-leaves and members no taller than eyes. */
+   slope; none (DBL_MAX) over out-leaves, members no taller than eyes */
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	(void)t;
 	if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join) */
@@ -8189,7 +8173,7 @@ PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	nd->ms = nd->mls = 0.0;
 }
 /* Member k joins in-leaf `node`, whose lines cross k within [f0, f1] only: reach there <= jd[8], slope >= jd[9]. Leaf
-   keeps steepest member (mr, ms), least-reach one (ml, mls), valid for later splits' parts. */
+   keeps steepest member (mr, ms), least-reach one (ml, mls), valid for later splits' parts */
 PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
 	const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
 	pvs__otnode *nd = t->nodes + node;
@@ -8210,7 +8194,7 @@ PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double
 	if (sl > nd->ms || (sl == nd->ms && r < nd->mr)) { nd->ms = sl; nd->mr = r; }
 	if (r < nd->ml) { nd->ml = r; nd->mls = sl; }
 }
-/* Parameter hull on segment e of q's lines, clamped to [0, 1]. */
+/* Parameter hull on segment e of q's lines, clamped to [0, 1] */
 PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double *f0, double *f1) {
 	double lo = DBL_MAX, hi = -DBL_MAX, u;
 	int i;
@@ -8221,7 +8205,7 @@ PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double 
 	*f0 = lo < 0.0 ? 0.0 : lo;
 	*f1 = hi > 1.0 ? 1.0 : hi;
 }
-/* 0 if unchanged. */
+/* 0: unchanged */
 PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
 	pvs__otnode *nd = t->nodes + node;
 	const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
@@ -8234,7 +8218,7 @@ PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
 	nd->mls = mls;
 	return 1;
 }
-/* Recomputes bounds of subtree `node` (short chain), then ancestors' till unchanged. */
+/* Recomputes bounds of subtree `node` (short chain), then ancestors' until unchanged */
 PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
 	pvs__otnode *nd = t->nodes + node;
 	if (nd->kind) { pvs__ot25_leaf_bound(t, nd); return; }
@@ -8247,7 +8231,7 @@ PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
 	pvs__ot25_bound_subtree(t, node);
 	for (p = t->nodes[node].parent; p != PVS__OT_NONE && pvs__ot25_inner_bound(t, p); p = t->nodes[p].parent) {}
 }
-/* Distance from grown cell rectangle to segment e, rounded down (via e's box; exact if axis-parallel). */
+/* Distance from grown cell rectangle to segment e, rounded down (via e's box: exact if axis-parallel) */
 PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 	double dx = 0.0, dy = 0.0, d;
 	double lx = e[0] < e[2] ? e[0] : e[2], hx = e[0] < e[2] ? e[2] : e[0];
@@ -8263,7 +8247,7 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 /* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from eyes
    at height H = t->eye over cell (§7.1): open interval (u0, u1) on e where all such rays pass below j's top. For eye
    p, q below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D: signed distance to j's line (> 0 on source side); monotone
-   in D(p), so corners' extreme D (clamped at 0) cover all eyes (thesis's pi_o / pi_s). 0 if empty. */
+   in D(p): corners' extreme D (clamped at 0) cover all eyes (thesis's pi_o / pi_s). 0: empty */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
 		double *u1) {
 	double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
@@ -8295,9 +8279,9 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0
 }
 
 /* Occluder j's per-tree data: jd[0..2] line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on source side);
-   jd[3..4] cell corners' min, max D (clamped at 0); jd[5] 1 if source edge on one side; jd[6] top - eyes; jd[7] 0: no
+   jd[3..4] cell corners' min, max D (clamped at 0); jd[5] 1: source edge on one side; jd[6] top - eyes; jd[7] 0: no
    umbra (source edge midpoint on line, or point); jd[8] reach (max cell-point distance, rounded up); jd[9] (top - eyes)
-   / reach if taller than eyes, else 0. */
+   / reach if taller than eyes, else 0 */
 PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	const double *sg = t->seg + 4 * (size_t)j;
 	double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1],
@@ -8330,7 +8314,7 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 
 /* Part of far segment e (height h) seen over front members of payload seq[first..+count) in q's funnel: parameter hull
    [*v0, *v1] in funnel range [*f0, *f1]; members crossing `skip_box` (2D, or NULL) or not surely in front ignored. 0:
-   none. */
+   none */
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
 		const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
 		double *v1) {
@@ -8391,12 +8375,12 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 
 #define PVS__OT25_MAX_SEQ 32
 /* Lazy funnel splitting: under this many members leaf takes partly visible occluders whole (conservative: thesis keeps
-   hidden occluders in S_L too, §7.5.2). From here splitting (<= 3, §7.5.2) bounds it (tests/BENCHMARKS.md, otree). */
+   hidden occluders in S_L too, §7.5.2); from here splitting (<= 3, §7.5.2) bounds it (tests/BENCHMARKS.md, otree) */
 #define PVS__OT25_SPLIT_MIN 16
 
 /* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; in-leaf funnel test clips k's
    top edge by front members' extended umbrae; if part visible leaf gets k, split (from PVS__OT25_SPLIT_MIN members) in
-   <= 3: primary funnel (rays via visible part): members, k; others: members. */
+   <= 3: primary funnel (rays via visible part): members, k; others: members */
 PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
@@ -8446,7 +8430,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 	t->stack_count = base;
 }
 
-/* Kind of leaf holding unit line w; 0 if w within 1e-9 of plane on path or outside lines leaving via source edge. */
+/* Kind of leaf holding unit line w; 0: w within 1e-9 of plane on path or outside lines leaving via source edge */
 PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	uint32_t node = 0;
 	int in_root = 0;
@@ -8462,7 +8446,7 @@ PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 }
 
 /* Early exit of pvs__ot25_box_visible (§3.3.4): 1 if witness line still in out-leaf crosses box bx's interior (wholly
-   past source edge a -> b). Margins of 1e-6 of scene size absorb rounding; 0: full test. */
+   past source edge a -> b). Margins of 1e-6 of scene size absorb rounding; 0: full test */
 PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const double a[2], const double b[2]) {
 	double nx = a[1] - b[1], ny = b[0] - a[0], mg = 1e3 * t->len_eps, near;
 	int i, k;
@@ -8503,8 +8487,8 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 
 /* Read-only test (§3.3.4): 1 if blocker line may pass stored occluders (or OOM). Splits with slack, stops at first
    visible leaf. 2D (§6.5.3; e NULL, h unused): line reaches occluder k before any stored one; slivers
-   (pvs__ot_thickness) ignored. 2.5D (c-LSS): part of far edge e (height h) of box `box` may be seen. near: distance for
-   subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
+   (pvs__ot_thickness) ignored. 2.5D (c-LSS): part of far edge e (height h) of `box` may be seen. near: distance for
+   subtree bounds (§6.5.5; 2.5D pvs__ot25_near) */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 		const double *e, const double *box) {
 	size_t base = t->stack_count, top;
@@ -8545,7 +8529,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 	return vis || t->oom;
 }
 
-/* 1 if box bx (local umin vmin umax vmax; top) may be seen past source edge a -> b (§7.7: top edges: far segments). */
+/* 1 if box bx (local umin vmin umax vmax; top) may be seen past source edge a -> b (§7.7: top edges: far segments) */
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
 		int *any_far) {
 	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* source edge's outward direction */
@@ -8559,9 +8543,9 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 	c4[5] = c4[7] = bx[3];
 	if (any_far) *any_far = 0;
 	if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
-	/* Box taller than eyes is seen (if at all) along rising ray, best at its 2D line's entry; lower one along falling
+	/* Box taller than eyes is seen (if at all) along rising ray, best at 2D line's entry; lower one along falling
 	   ray, at exit. Lines enter only via box edges facing source, leave via others (edges 0..3: -v, +u, +v, -u): entry
-	   (exit) edge first, then sides. */
+	   (exit) edge first, then sides */
 	if (fabs(nx) > fabs(ny)) far_edge = nx > 0 ? 1 : 3;
 	else far_edge = ny > 0 ? 2 : 0;
 	order[0] = top > t->eye ? (far_edge + 2) & 3 : far_edge;
@@ -8606,7 +8590,7 @@ typedef struct pvs__ot25_sweep {
 } pvs__ot25_sweep;
 
 /* Sweep visitor (§7.7), front to back: node meeting cell visible; inner node with >= w->test_min item refs: box tested
-   as object's, culled if hidden; leaves insert facades, mark objects to test later. */
+   as object's, culled if hidden; leaves insert facades, mark objects to test later */
 PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 		uint32_t item_count) {
 	pvs__ot25_sweep *w = (pvs__ot25_sweep *)user;
@@ -8656,15 +8640,15 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 	return PVS_VISIT_DESCEND;
 }
 
-/* Approximate occlusion sweep (§3.2, pvs__kd_sweep), visitor told its node (w->node). */
+/* Approximate occlusion sweep (§3.2, pvs__kd_sweep), visitor told node (w->node) */
 PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 		pvs__ot25_sweep *w) {
 	pvs__kd_sweep(t, source, heap, pvs__ot25_visit, w, &w->node);
 }
 
-/* Balanced top of source edge's tree: front-to-back insertion makes open region deep chain. Splitting root first by
+/* Balanced top of source edge's tree: front-to-back insertion makes open region deep chain; splitting root first by
    (exact) planes of PVS__OT25_PRESPLIT far points over all directions leaves short chains, one a sector. Reorders
-   pts[lo..hi): each with child holding its line from m. */
+   pts[lo..hi): each with child holding its line from m */
 #define PVS__OT25_PRESPLIT 16
 PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
 	double l[3], tmp[PVS__OT25_PRESPLIT][2];
@@ -8694,7 +8678,7 @@ PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
 		uint32_t object_count, pvs_box *boxes);
 
-/* pvs_visibility_25d's argument checks: every error it returns but OOM (in err). */
+/* pvs_visibility_25d's argument checks: every error it returns but OOM (in err) */
 PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, const pvs_word *visible_objects,
 		pvs_error *err) {
 	uint32_t nf, no, i;
@@ -8721,7 +8705,7 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
 
 /* 2.5D input relative to cell centre (cx, cy): facade segments into all (4 doubles), objects into box (u0 v0 u1 v1
    top), cell rectangle grown by *margin into cell (4 CCW corners; never degenerate). Returns facades' max |coordinate|
-   (>= 1). */
+   (>= 1) */
 PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
 		double cell[8], double *margin) {
 	double ext = 1.0, hx, hy;
@@ -8743,9 +8727,8 @@ PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double c
 	return ext;
 }
 
-/* Root region of fresh tree for source edge a-b (cell centred at origin): lines crossing edge, bounded by its ends'
-   planes (blocker edges on them marked, §4.10.1), then pvs__ot25_presplit. Lines missing edge never queried. OOM:
-   t->oom. */
+/* Root region of fresh tree for source edge a-b (cell centred at origin): lines crossing edge, bounded by ends' planes
+   (blocker edges on them marked, §4.10.1), then pvs__ot25_presplit. Lines missing edge never queried. OOM: t->oom */
 PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double a[2], const double b[2]) {
 	double m[2], m2[2], l[3], sa_, sb_;
 	uint32_t pos;
@@ -8774,8 +8757,8 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 }
 
 /* One tree per top edge (§7.1): lines leaving cell via edge `side` (corner side + 1 to corner side), built by sweeping
-   `tree`; its visible leaves' candidates tested (§7.7) into visible_objects. 0 if no object left to decide or tree
-   stopped (t->oom: OOM). */
+   `tree`; its visible leaves' candidates tested (§7.7) into visible_objects. 0: no object left to decide or tree
+   stopped (t->oom: OOM) */
 PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
 		pvs_word *visible_objects) {
 	pvs__otree *t = w->t;
@@ -8809,7 +8792,7 @@ PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void 
 	return 1;
 }
 
-/* 2.5D query's kD-tree over pvs_visibility_25d_boxes. PVS_OK or error (in err). */
+/* 2.5D query's kD-tree over pvs_visibility_25d_boxes. PVS_OK or error (in err) */
 PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out,
 		pvs_error *err) {
 	pvs_kdtree_desc kd;
@@ -8827,7 +8810,7 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
 	return r;
 }
 
-/* Per kD node: item refs in subtree (0xffffffff where children don't follow parent). */
+/* Per kD node: item refs in subtree (0xffffffff where children don't follow parent) */
 PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
 	uint32_t i;
 	for (i = tree->node_count; i-- > 0;) {
@@ -8960,7 +8943,7 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
    in-leaf: fragment blocking its ray pyramid. Edge marks: §4.10.1. Conservative: in-leaf region meets exact stored
    planes; insertion may drop slivers below tol. Tests widen by `tol` (1e-10 x eye-relative scene size, >> unit-normal
    dot error): box descends all sides within it, hidden only beyond it. Each plane tested at sign-picked corner, same
-   ops for all boxes: monotone, so hierarchy updating exact (§4.11.4). */
+   ops for all boxes: monotone: hierarchy updating exact (§4.11.4) */
 
 #define PVS__SV_MAXV 16
 #define PVS__SV_STACK 256
@@ -8983,7 +8966,7 @@ typedef struct pvs__svnode {
 	uint32_t frag; /* in-leaf's fragment */
 } pvs__svnode;
 
-/* Fragment: occluder plane (n.x + d > 0 eye side), vertices f, inward normals m of faces (0, f_i, f_i+1). */
+/* Fragment: occluder plane (n.x + d > 0 eye side), vertices f, inward normals m of faces (0, f_i, f_i+1) */
 typedef struct pvs__svfrag {
 	double plane[4];
 	double tol; /* depth and separation tolerance */
@@ -8993,7 +8976,7 @@ typedef struct pvs__svvert {
 	double f[3], m[3];
 } pvs__svvert;
 
-/* Candidate: score (area-angle, later distance), triangle or volume face. */
+/* Candidate: score (area-angle, later distance), triangle or volume face */
 typedef struct pvs__svsel {
 	double key;
 	uint32_t a, b; /* b == PVS__SV_TRIANGLE: triangle a; else occluder a's face b */
@@ -9059,8 +9042,8 @@ PVS__STATIC double pvs__sv_lo(const double n[3], const double lo[3], const doubl
 		n[2] * (n[2] >= 0.0 ? lo[2] : hi[2]);
 }
 
-/* Keeps `in` where n.x + d >= 0; new edge: plane `en` (via eye; NULL: eye-and-new-edge), `mark`. Count: 0 empty, -1 too
-   many. */
+/* Keeps `in` where n.x + d >= 0; new edge: plane `en` (via eye; NULL: eye-and-new-edge), `mark`. Count: 0 empty, -1
+   overflow */
 PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d, const double *en, int mark,
 		pvs__svpoly *out) {
 	double s[PVS__SV_MAXV];
@@ -9108,7 +9091,7 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 	return m;
 }
 
-/* Points p (n <= PVS__SV_MAXV) eye-relative into v; mean c, Newell normal nrm (2x area). */
+/* Points p (n <= PVS__SV_MAXV) eye-relative into v; mean c, Newell normal nrm (2x area) */
 PVS__STATIC void pvs__sv_eye_points(const pvs_otree *o, const float *const *p, int n, double (*v)[3], double c[3],
 		double nrm[3]) {
 	int i, k;
@@ -9127,8 +9110,8 @@ PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) {
 	return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
-/* Eye-space polygon of occluder points p (planar, convex), plane, edge planes, frustum-clipped (conservative); 0 if
-   unusable (edge-on, behind eye, outside). */
+/* Eye-space polygon of occluder points p (planar, convex), plane, edge planes, frustum-clipped (conservative); 0:
+   unusable (edge-on, behind eye, outside) */
 PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs__svpoly *q, double plane[4]) {
 	pvs__svpoly a, b;
 	double c[3], nrm[3], len, size = 0.0;
@@ -9161,7 +9144,7 @@ PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs_
 	return 1;
 }
 
-/* PVS__OT_NONE if pools full. */
+/* PVS__OT_NONE if pools full */
 PVS__STATIC uint32_t pvs__sv_fragment(pvs_otree *o, const pvs__svpoly *q, const double plane[4]) {
 	pvs__svfrag *f;
 	double size = 0.0;
@@ -9184,7 +9167,7 @@ PVS__STATIC uint32_t pvs__sv_fragment(pvs_otree *o, const pvs__svpoly *q, const 
 	return o->frag_count++;
 }
 
-/* pvs__ot_refine for q's pyramid (§4.10.1). PVS__OT_NONE if node budget spent (leaf unchanged). */
+/* pvs__ot_refine for q's pyramid (§4.10.1). PVS__OT_NONE: node budget spent (leaf unchanged) */
 PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpoly *q) {
 	uint32_t need = 0;
 	int i;
@@ -9206,7 +9189,7 @@ PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpo
 }
 
 /* Merges occluder polygon q (§3.3.3, App. C.1.4): filtered down, split, edges marked; out-leaves become its e-OT;
-   in-leaves: stored fragment replaced where q in front. */
+   in-leaves: stored fragment replaced where q in front */
 PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const double plane[4]) {
 	uint32_t sp = 0;
 	o->stack[0] = *poly;
@@ -9277,7 +9260,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 	}
 }
 
-/* Min, max of 0 (eye) and n . f over points v. */
+/* Min, max of 0 (eye) and n . f over points v */
 PVS__STATIC void pvs__sv_extent(const pvs__svvert *v, uint32_t count, const double n[3], double *plo, double *phi) {
 	uint32_t m;
 	*plo = *phi = 0.0;
@@ -9289,7 +9272,7 @@ PVS__STATIC void pvs__sv_extent(const pvs__svvert *v, uint32_t count, const doub
 }
 
 /* Eye-relative box [lo, hi] vs in-leaf fragment f (§4.10.2): invisible if wholly behind its plane or (unless
-   PLANE_ONLY) apart from pyramid eye + fragment (exact test "E"); visible if wholly in front; else partly. */
+   PLANE_ONLY) apart from pyramid eye + fragment (exact test "E"); visible if wholly in front; else partly */
 PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f, const double lo[3],
 		const double hi[3]) {
 	const pvs__svvert *v = o->verts + f->first;
@@ -9343,7 +9326,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 }
 
 /* Box [lo, hi] in tree (§4.10.2): descends, unsplit, all sides it reaches; leaves combine by Table 3.1, stop at first
-   partly visible. */
+   partly visible */
 PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], const double hi[3]) {
 	uint32_t sp = 1, *stk = o->tstack;
 	int vis = 0, inv = 0;
@@ -9365,7 +9348,7 @@ PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], c
 	return vis ? PVS__SV_V : PVS__SV_I;
 }
 
-/* Frustum (outside a plane: invisible; crossing: <= partly), then tree. */
+/* Frustum (outside plane: invisible; crossing: <= partly), then tree */
 PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 	double lo[3], hi[3];
 	int k, cross = 0;
@@ -9384,7 +9367,7 @@ PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 
 /* ---- occluder selection (§4.5) */
 
-/* pvs__topk_offer order by key: root = weakest kept. */
+/* pvs__topk_offer order by key: root = weakest kept */
 PVS__STATIC int pvs__svsel_better(const void *a, const void *b) {
 	return ((const pvs__svsel *)a)->key > ((const pvs__svsel *)b)->key;
 }
@@ -9396,7 +9379,7 @@ PVS__STATIC void pvs__sv_offer(pvs_otree *o, uint32_t k, double key, uint32_t a,
 	pvs__topk_offer(o->sel, &o->sel_count, k, sizeof(e), &e, pvs__svsel_better);
 }
 
-/* Candidate (a, b): triangle, BOX face or EXTRUSION wall. */
+/* Candidate (a, b): triangle, BOX face or EXTRUSION wall */
 PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float q[4][3], const float *p[4]) {
 	int k, n;
 	if (b == PVS__SV_TRIANGLE) {
@@ -9419,8 +9402,8 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
 	}
 }
 
-/* Area-angle M = A |N . V| / |D|^2 (§4.5), V unit eye-to-centre D (thesis: view direction); -1 if wholly out of
-   frustum. */
+/* Area-angle M = A |N . V| / |D|^2 (§4.5), V unit eye-to-centre D (thesis: view direction); -1: wholly out of
+   frustum */
 PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int n) {
 	double v[4][3], c[3], area[3], dd;
 	int i, k;
@@ -9434,7 +9417,7 @@ PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int 
 	return 0.5 * fabs(pvs__sv_dot(area, c)) / (dd * sqrt(dd));
 }
 
-/* (key, a, b) ascending: deterministic. */
+/* (key, a, b) ascending: deterministic */
 PVS__STATIC int pvs__sv_before(const void *pa, const void *pb) {
 	const pvs__svsel *x = (const pvs__svsel *)pa, *y = (const pvs__svsel *)pb;
 	return x->key < y->key || (x->key == y->key && (x->a < y->a || (x->a == y->a && x->b < y->b)));
@@ -9474,7 +9457,7 @@ PVS__STATIC void pvs__sv_touch(pvs_otree *o, uint32_t obj, uint8_t flag) {
 	o->obj_flag[obj] |= flag;
 }
 
-/* Split clamped to `box`. */
+/* Split clamped to `box` */
 PVS__STATIC void pvs__sv_child_boxes(const pvs__kdnode *nd, const pvs_box *box, pvs_box c[2]) {
 	uint32_t axis = nd->bits & 3u;
 	float sp = nd->u.split;
@@ -9484,7 +9467,7 @@ PVS__STATIC void pvs__sv_child_boxes(const pvs__kdnode *nd, const pvs_box *box, 
 	c[1].min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
 }
 
-/* Flags objects below `node` with `flag` (no tests). */
+/* Flags objects below `node` with `flag` (no tests) */
 PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, uint8_t flag) {
 	const pvs_kdtree *t = o->s->object_tree;
 	const pvs__kdnode *nd = t->nodes + node;
@@ -9508,7 +9491,7 @@ PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, u
 }
 
 /* Fig. 4.5: last frame's termination nodes (leaves, nodes not partly visible or unvisited last frame) tested; opened
-   nodes skipped, near children first; agreeing children give it their state (pull-up). */
+   nodes skipped, near children first; agreeing children give it their state (pull-up) */
 PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 	const pvs_kdtree *t = o->s->object_tree;
 	const pvs__kdnode *nd = t->nodes + node;
@@ -9635,7 +9618,7 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *o, pvs_otree_frame *frame) {
 }
 
 /* New scene or near-wrap frame counter: all kD states stale; new scene: rebuilds object triangle ranges, drops
-   occluders. */
+   occluders */
 PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
 	uint32_t i;
 	if (s != o->last_scene || o->frame > 0xfffffff0u) {
@@ -9658,7 +9641,7 @@ PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
 	o->s = s;
 }
 
-/* Eye frame (as pvs_camera_matrix), frustum planes (unit normals in), o->tol from eye-relative size. */
+/* Eye frame (as pvs_camera_matrix), frustum planes (unit normals in), o->tol from eye-relative size */
 PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam) {
 	double u[3], r[3], len, ty, tx, size = 0.0;
 	uint32_t k;
@@ -9689,7 +9672,7 @@ PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_cam
 	o->tol = 1e-10 * (size + o->near_d + 1e-20);
 }
 
-/* Inserts caller triangles (p->occluder_*) in order, skipping bad index or coordinate; returns count. */
+/* Inserts caller triangles (p->occluder_*) in order, skipping bad index, coordinate; count */
 PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_params *p) {
 	uint32_t i, nocc = 0;
 	int j;
@@ -9713,7 +9696,7 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
 
 /* Occluder selection (§4.5), insertion: best by area-angle among last frame's triangles (after reset: scene's) and,
    with p->scene_volumes, occluder-volume faces within lambda; nearest first (approximate occlusion sweep, §3.2).
-   Returns count offered. */
+   Returns count offered */
 PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam,
 		const pvs_cull_params *p) {
 	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
@@ -9769,7 +9752,7 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
 	return o->sel_count;
 }
 
-/* Next candidates (§4.5) into o->prev: triangles of objects seen within lambda (occluder-only: box visible). */
+/* Next candidates (§4.5) into o->prev: triangles of objects seen within lambda (occluder-only: box visible) */
 PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p,
 		const pvs_word *visible) {
 	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
@@ -9864,7 +9847,7 @@ typedef struct pvs__otree_bake {
 
 /* c-LSS (§7.1) facades from scene walls (pvs__facades_extract), on ground; facade of base b serves rays with both ends
    >= b: cell bottom c to object bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (facade
-   joins lowest level >= its base); level k's kD-tree holds objects and facades of levels <= k. */
+   joins lowest level >= its base); level k's kD-tree: objects, facades of levels <= k */
 PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells,
 		uint32_t cell_count) {
 	int up = s->up_axis == 2 ? 2 : 1, u, v;
@@ -9963,8 +9946,8 @@ done:
 }
 
 /* Cell (or adaptive part c): pvs_visibility_25d per needed level: objects with min(cell bottom, object bottom) in
-   [level k, k + 1) tested against facades of levels <= k; below lowest level visible. May add PVS__BAKE_NO_OCCLUDERS,
-   PVS__BAKE_OTREE_BUDGET to *flags. */
+   [level k, k + 1) tested against facades of levels <= k; below lowest level: visible. May add PVS__BAKE_NO_OCCLUDERS,
+   PVS__BAKE_OTREE_BUDGET to *flags */
 PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *c, uint32_t cell,
 		pvs_word *bits, unsigned *flags, pvs_error *err) {
 	pvs_otree_stats st;
@@ -10079,7 +10062,7 @@ PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *stat
 	return pvs__otree_cell((const pvs__otree_bake *)state, env->scene, box, cell, bits, flags, err);
 }
 
-/* AUTO's OTREE price: pvs_visibility_25d per base level and cell: class 2, +1 per level doubling. */
+/* AUTO's OTREE price: pvs_visibility_25d per base level, cell: class 2, +1 per level doubling */
 PVS__STATIC int pvs__otree_price(const pvs_bake_desc *desc, const void *state) {
 	const pvs__otree_bake *ot = (const pvs__otree_bake *)state;
 	int price = 2;
@@ -10117,13 +10100,13 @@ enum {
 };
 #define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_EXPLICIT)
 
-/* Voxel (i, j, k): origin + h ([i, i + 1] x [j, j + 1] x [k, k + 1]); n per axis. */
+/* Voxel (i, j, k): origin + h ([i, i + 1] x [j, j + 1] x [k, k + 1]); n per axis */
 typedef struct pvs__vx_grid {
 	double origin[3], h;
 	uint32_t n[3];
 } pvs__vx_grid;
 
-/* 2.5D column map: ground squares, side grid.h (n[up] = 1); min-pyramids (level l: side grid.h 2^l; 0: map). */
+/* 2.5D column map: ground squares, side grid.h (n[up] = 1); min-pyramids (level l: side grid.h 2^l; 0: map) */
 #define PVS__VX_LEVELS 24
 typedef struct pvs__vx_cols {
 	pvs__vx_grid grid;
@@ -10135,7 +10118,7 @@ typedef struct pvs__vx_cols {
 	float *ptop[PVS__VX_LEVELS], *psolid[PVS__VX_LEVELS]; /* level 0: top, solid; others allocated */
 } pvs__vx_cols;
 
-/* Tight-box BVH over drawable objects or chains, each in one leaf. */
+/* Tight-box BVH over drawable objects or chains, each in a leaf */
 typedef struct pvs__obvh_node {
 	pvs_box box;
 	uint32_t first, count; /* leaf: items[first..+count); inner: count 0, children first, first + 1 */
@@ -10178,7 +10161,7 @@ PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j,
 }
 PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0; }
 
-/* Triangle-box overlap (Akenine-Moller 2001 SAT), double; margin in hs, radii up a hair: rounding errs to touched. */
+/* Triangle-box overlap (Akenine-Moller 2001 SAT), double; margin in hs, radii up a hair: rounding errs to touched */
 PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b,
 		const double *d) {
 	double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
@@ -10229,7 +10212,7 @@ PVS__STATIC int pvs__point_in_poly(const float *pts, uint32_t n, double x, doubl
 	}
 	return in;
 }
-/* 1 if segments a-b, c-d meet (touching counts). */
+/* 1 if segments a-b, c-d meet (touching counts) */
 PVS__STATIC int pvs__seg_meet(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
 	double d1 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax), d2 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax);
 	double d3 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx), d4 = (dx - cx) * (by - cy) - (dy - cy) * (bx - cx);
@@ -10241,7 +10224,7 @@ PVS__STATIC int pvs__seg_meet(double ax, double ay, double bx, double by, double
 	return 1;
 }
 
-/* 1 if closed voxel box in explicit occluder (rounds to "not inside"). */
+/* 1 if closed voxel box in explicit occluder (rounds to "not inside") */
 PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, const double lo[3], const double hi[3]) {
 	int k, u, v;
 	uint32_t i, j;
@@ -10287,7 +10270,7 @@ PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
 	return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
 }
 
-/* BVH of boxes[0..count) (keep NULL: all, else kept): median splits on centres' longest axis, leaves <= 4. */
+/* BVH of boxes[0..count) (keep NULL: all, else kept): median splits on centres' longest axis; leaves <= 4 */
 PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count,
 		const uint8_t *keep, pvs__obvh *h) {
 	uint32_t i, n = 0, *stack = NULL, sp = 0;
@@ -10412,7 +10395,7 @@ PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
 	pvs__free(&a, o, sizeof(*o), 16);
 }
 
-/* Voxel range [*i0, *i1] on axis k of [lo - m, hi + m] (empty: 1, 0). */
+/* Voxel range [*i0, *i1] on axis k of [lo - m, hi + m] (empty: 1, 0) */
 PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double hi, double m, uint32_t *i0,
 		uint32_t *i1) {
 	double a = floor((lo - m - gr->origin[k]) / gr->h), b = floor((hi + m - gr->origin[k]) / gr->h);
@@ -10424,7 +10407,7 @@ PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double
 }
 
 /* Sutherland-Hodgman: convex polygon in (n 3-double points; n = 2: segment) clipped to sign (x[k] - c) >= 0 into out (n
-   + 1 points); returns count. */
+   + 1 points); count */
 PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, double sign, double *out) {
 	int i, r = 0;
 	for (i = 0; i < n; ++i) {
@@ -10442,7 +10425,7 @@ PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, doub
 	return r;
 }
 
-/* Cells on axis k in [r0, r1] whose extent + g meets polygon p (n points); empty if *i0 > *i1. */
+/* Cells on axis k in [r0, r1] whose extent + g meets polygon p (n points); empty if *i0 > *i1 */
 PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int n, int k, double g, uint32_t r0,
 		uint32_t r1, uint32_t *i0, uint32_t *i1) {
 	double lo = p[k], hi = p[k], a, b;
@@ -10464,7 +10447,7 @@ typedef void (*pvs__vx_visit_fn)(void *user, const uint32_t idx[3]);
 
 /* Visits cells of gr in [r0, r1] convex polygon p (3 points, or 2: segment) grown by m may meet: clipped to slabs along
    k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] giving k[0] ranges. Candidates only; slabs grow 1e-3 cell
-   past m: visits every cell an exact margin-m test accepts. */
+   past m: visits all cells an exact margin-m test accepts */
 PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m,
 		const uint32_t r0[3], const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
 	double slab[3 * 8], tmp[3 * 8], row[3 * 8], g = m + 1e-3 * gr->h, h = gr->h;
@@ -10497,7 +10480,7 @@ PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, co
 	}
 }
 
-/* Radius-r min filter on axis k (outside = 0): Chebyshev erosion separable. */
+/* Radius-r min filter on axis k (outside = 0): Chebyshev erosion separable */
 PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t *line, int k, uint32_t r) {
 	uint32_t n = o->n[k], a, b, c, i;
 	size_t stride = k == 0 ? 1 : k == 1 ? o->n[0] : (size_t)o->n[0] * o->n[1];
@@ -10517,7 +10500,7 @@ PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t 
 		}
 }
 
-/* Greedy merge of g's set voxels (cleared) into boxes rounded inward to float; count (out NULL: count only). */
+/* Greedy merge of g's set voxels (cleared) into boxes rounded inward to float; count (out NULL: only counts) */
 PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *out) {
 	uint32_t i, j, k, i1, j1, k1, a, b, count = 0;
 	for (k = 0; k < o->n[2]; ++k)
@@ -10551,19 +10534,12 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
 	return count;
 }
 
-/* ---- certified solid: crossing parity floods per edge-connected component ----
+/* ---- certified solid: crossing parity floods per edge-connected component (the argument: README.md, "Why the
+   conservative parts hold"). w(x): parity of K's triangles x's upward ray crosses; floods over voxel nodes of equal w
+   from cells; pure voxels never reached are solid. ---- */
 
-   Conservative: for triangles K, x above ground level g, w(x) = parity of K's triangles x's upward ray crosses. If K's
-   edges have even use (but at up = g), w constant on each connected piece of space minus K; odd (open) edge flips w
-   across vertical sheet below it. Voxel: pure if no K triangle or sheet within margin m (one w), mixed if only triangle
-   (nodes w = 0, 1), bad if sheet (one node). Paths avoiding K cross voxels via faces: graph linking face neighbours'
-   equal-w nodes (any node of bad voxel) holds them all; outside K's voxel box: one w = 0 region. Flood from voxels
-   meeting a cell (and outside if one leaves box) reaches all a viewer walks to without touching K: pure voxel it misses
-   seen from no cell. Components flood alone. w read per column on vertical line with certain orientation signs
-   (pvs__vx_cross). Slits, doors under voxel width join both sides. */
-
-/* orient2d (b - a) x (p - a); *bound bounds its rounding (each difference, product rounded once: <= 4.5e-16 (|t1| +
-   |t2|)): sign certain if |value| > *bound. No underflow for floats. */
+/* orient2d (b - a) x (p - a); *bound bounds rounding (each difference, product rounded once: <= 4.5e-16 (|t1| + |t2|)):
+   sign certain if |value| > *bound; no underflow for floats */
 PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, double px, double py, double *bound) {
 	double t1 = (bx - ax) * (py - ay), t2 = (by - ay) * (px - ax);
 	*bound = 1e-15 * (pvs__dabs(t1) + pvs__dabs(t2));
@@ -10571,7 +10547,7 @@ PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, do
 }
 
 /* Vertical line at (pu, pv) vs triangle a, b, c: 0 misses, 1 crosses inside at height *z (within *dz); -1 undecidable
-   (near edge, vertex, or uncertain height). */
+   (near edge, vertex; uncertain height) */
 PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu,
 		double pv, double *z, double *dz) {
 	const float *p[3];
@@ -10607,7 +10583,7 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 	return 1;
 }
 
-/* Flood voxel bits: T touched by K, B bad, F odd layer crossings, W w = 1 (pure), R0 / R1 node 0 / 1 reached. */
+/* Flood voxel bits: T touched by K, B bad, F odd layer crossings, W w = 1 (pure), R0 / R1 node 0 / 1 reached */
 enum { PVS__G_T = 1, PVS__G_B = 2, PVS__G_F = 4, PVS__G_W = 8, PVS__G_R0 = 16, PVS__G_R1 = 32 };
 
 PVS__STATIC int pvs__fpoint_cmp(const float *a, const float *b, int n) {
@@ -10616,7 +10592,7 @@ PVS__STATIC int pvs__fpoint_cmp(const float *a, const float *b, int n) {
 		if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
 	return 0;
 }
-/* Position + index (vertex; >>methods: triangle corner 3 t + k). */
+/* Position + index (vertex; >>methods: triangle corner 3 t + k) */
 typedef struct pvs__vx_vkey {
 	float p[3];
 	uint32_t i;
@@ -10653,7 +10629,7 @@ PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint
 	PVS__ZERO(*t);
 }
 
-/* 1 if flat at ground level g (bounds nothing above g). */
+/* 1 if flat at ground level g (bounds nothing above g) */
 PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) {
 	uint32_t up = s->up_axis, k;
 	PVS__FOR3(k)
@@ -10661,7 +10637,7 @@ PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) 
 	return 1;
 }
 
-/* canon[v]: one id per exact position (-0 as +0), shared by its vertices; vk: vertex_count scratch. */
+/* canon[v]: one id per exact position (-0 as +0), shared by its vertices; vk: vertex_count scratch */
 PVS__STATIC void pvs__weld(const pvs_scene *s, pvs__vx_vkey *vk, uint32_t *canon) {
 	uint32_t i, k;
 	for (i = 0; i < s->vertex_count; ++i) {
@@ -10673,7 +10649,7 @@ PVS__STATIC void pvs__weld(const pvs_scene *s, pvs__vx_vkey *vk, uint32_t *canon
 		canon[vk[i].i] = i > 0 && !pvs__fpoint_cmp(vk[i - 1].p, vk[i].p, 3) ? canon[vk[i - 1].i] : i;
 }
 
-/* Edge-connected components (vertices matched exactly), open edges (odd use, not both at ground g). */
+/* Edge-connected components (vertices matched exactly), open edges (odd use, not both at ground g) */
 PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_allocator *a, pvs__vx_topo *t) {
 	uint32_t nv = s->vertex_count, nt = s->triangle_count, i, k, up = s->up_axis, ne = 0, c;
 	pvs__vx_vkey *vk;
@@ -10761,7 +10737,7 @@ done:
 	return res;
 }
 
-/* Component flood scratch, sized for largest box. */
+/* Component flood scratch, sized for largest box */
 typedef struct pvs__vx_flood {
 	uint8_t *bits; /* box voxels: PVS__G_* */
 	uint8_t *col; /* box columns: line index, 0x80 undecided this pass, 0xff failed */
@@ -10785,7 +10761,7 @@ typedef struct pvs__vx_flood {
 } pvs__vx_flood;
 #define PVS__VX_BUCKET 8u /* voxel columns per bucket side */
 
-/* Column test line positions, voxel fractions (unstructured). */
+/* Column test line positions, voxel fractions (unstructured) */
 static const double pvs__vx_line_u[8] = {0.4142, 0.7071, 0.2360, 0.8660, 0.5773, 0.1547, 0.6458, 0.3183};
 static const double pvs__vx_line_v[8] = {0.6180, 0.2679, 0.7937, 0.4472, 0.1213, 0.8944, 0.3660, 0.5403};
 
@@ -10801,14 +10777,14 @@ PVS__STATIC void pvs__vx_push_all(uint8_t *bits, uint32_t *queue, size_t *qt, si
 	else if (f & PVS__G_T) { pvs__vx_push(bits, queue, qt, vi, 0); pvs__vx_push(bits, queue, qt, vi, 1); }
 	else pvs__vx_push(bits, queue, qt, vi, (f & PVS__G_W) != 0);
 }
-/* Voxel vi's node the outside (w = 0) enters. */
+/* Voxel vi's node the outside (w = 0) enters */
 PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi) {
 	uint8_t f = bits[vi];
 	pvs__vx_push(bits, queue, qt, vi, (f & (PVS__G_B | PVS__G_T)) ? 0 : (f & PVS__G_W) != 0);
 }
 
-/* w of cell cb, clear of K by m: parity of K's crossings above point of cb on vertical line (none within m); -1 if 8
-   lines fail. */
+/* w of cell cb, clear of K by m: parity of K's crossings above point of cb on vertical line (none within m); -1: 8
+   lines fail */
 PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
 	uint32_t up = s->up_axis, t, line;
 	int u, v;
@@ -10833,7 +10809,7 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
 	return -1;
 }
 
-/* Pushes cell cb's flood sources: box voxels' w = wc node (all if wc < 0); test = 1: none pushed, 1 if one reached. */
+/* Pushes cell cb's flood sources: box voxels' w = wc node (all if wc < 0); test = 1: none pushed, 1: one reached */
 PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const uint32_t lo[3], const uint32_t hi[3],
 		const size_t stride[3], double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt,
 		int test) {
@@ -10864,8 +10840,8 @@ PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const ui
 	return 0;
 }
 
-/* Floods box nodes from queue, entering from outside if ext = 1 or at box face via joined node; 0 if outside never
-   entered. */
+/* Floods box nodes from queue, entering from outside if ext = 1, or at box face via joined node; 0: outside never
+   entered */
 PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io, size_t *qt_io, const uint32_t d[3],
 		const size_t stride[3], const uint32_t lo[3], uint32_t up, int ext) {
 	size_t qh = *qh_io, qt = *qt_io;
@@ -10917,7 +10893,7 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 	return ext;
 }
 
-/* pvs__vx_scan visitor: voxels triangle touches (margin toward touched). */
+/* pvs__vx_scan visitor: voxels triangle touches (margin toward touched) */
 typedef struct pvs__vx_touch {
 	pvs_occluders *o; /* non-NULL: sets PVS__VX_TOUCHED (gr: its grid) */
 	const pvs__vx_grid *gr;
@@ -10951,7 +10927,7 @@ PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3
 			p[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (size_t)e] + (size_t)kk];
 }
 
-/* pvs__vx_scan visitors, steps 2, 3: a box column at a time. */
+/* pvs__vx_scan visitors, steps 2, 3: a box column at a time */
 typedef struct pvs__vx_colvisit {
 	const pvs__vx_grid *gr;
 	uint8_t *bits, *col; /* box voxels from lo; its columns (rows of d[u]) */
@@ -11014,7 +10990,7 @@ PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
 	}
 }
 
-/* Component box shared by flood steps. */
+/* Component box shared by flood steps */
 typedef struct pvs__vx_fbox {
 	pvs_occluders *o;
 	const pvs_scene *s;
@@ -11029,7 +11005,7 @@ typedef struct pvs__vx_fbox {
 	pvs__vx_flood *fl;
 } pvs__vx_fbox;
 
-/* Step 1: PVS__G_T on box voxels K touches (margin toward touched); mark_touched: PVS__VX_TOUCHED too. */
+/* Step 1: PVS__G_T on box voxels K touches (margin toward touched); mark_touched: PVS__VX_TOUCHED too */
 PVS__STATIC void pvs__vx_flood_touched(const pvs__vx_fbox *fb, int mark_touched) {
 	static const int xyz[3] = {0, 1, 2};
 	pvs__vx_touch tv;
@@ -11065,7 +11041,7 @@ PVS__STATIC void pvs__vx_flood_colvisit(const pvs__vx_fbox *fb, pvs__vx_colvisit
 	axes[2] = (int)fb->up;
 }
 
-/* Step 2, bad voxels: under each open edge, it + m to ground, in columns whose square + m meets it (Liang-Barsky). */
+/* Step 2, bad voxels: under each open edge, it + m to ground, in columns whose square + m meets it (Liang-Barsky) */
 PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
 	const pvs__vx_topo *tp = fb->tp;
 	pvs__vx_colvisit cv;
@@ -11080,8 +11056,8 @@ PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
 	}
 }
 
-/* Step 3, pure voxels' w: column's crossings with a vertical line toggle PVS__G_F at their layer; all 8 line positions
-   failing make it bad (info.undecided_columns). PVS__G_W where odd crossings above. */
+/* Step 3, pure voxels' w: column's crossings with vertical line toggle PVS__G_F at their layer; all 8 line positions
+   failing: bad (info.undecided_columns). PVS__G_W where odd crossings above */
 PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
 	const pvs_scene *s = fb->s;
 	const pvs__vx_topo *tp = fb->tp;
@@ -11128,7 +11104,7 @@ PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
 	}
 }
 
-/* 1 if cell cb grown by m meets K. */
+/* 1 if cell cb grown by m meets K */
 PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box *cb) {
 	const pvs_scene *s = fb->s;
 	const pvs__vx_topo *tp = fb->tp;
@@ -11154,7 +11130,7 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
 }
 
 /* Step 4's w of cell cb (box voxels r0..r1): -1 (all nodes) if cb + m meets K; else 0 with out_w0 (leaves box above
-   ground); else pure voxel's it overlaps by over m, or own ray's. */
+   ground); else that of pure voxel it overlaps by over m, or own ray's */
 PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3],
 		const uint32_t r1[3], int out_w0) {
 	const uint8_t *bits = fb->fl->bits;
@@ -11187,7 +11163,7 @@ PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, 
 }
 
 /* Step 4's cells: unexcluded ones of buckets under box meeting it (+ m), each once (fl->stamp: stamp; stamp + 1 if
-   meeting), into fl->near_cells with w; near_flag 1 if sticking out. Returns count. */
+   meeting), into fl->near_cells with w; near_flag 1: sticks out; count */
 PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) {
 	pvs__vx_flood *fl = fb->fl;
 	const pvs__vx_grid *gr = fb->gr;
@@ -11229,9 +11205,9 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
 
 /* Step 4, sources: cells meeting box (one clear of K by m: its voxels get its w's node; else all nodes), and outside if
    cell partly outside. Leaks (cells in mesh's void) would flood wall interiors: if under half active cells lie outside
-   box, outside floods first; cells outside, partly outside or reached excluded if together under half. Excluded cells
+   box, outside floods first; cells outside, partly outside or reached: excluded if together under half. Excluded cells
    seed no later flood, get no occluder (pvs_shrink_cell: all objects). Sources left in fl->queue; returns
-   pvs__vx_flood_run's ext. */
+   pvs__vx_flood_run's ext */
 PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
 	pvs__vx_flood *fl = fb->fl;
 	uint8_t *bits = fl->bits;
@@ -11275,8 +11251,8 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
 	return ext;
 }
 
-/* Floods component K on grid gr, box lo..hi (inclusive, lo[up] >= 1): PVS__G_T/B/W, reached nodes into fl->bits; 0 if
-   outside never entered. mark_touched: PVS__VX_TOUCHED too (gr: occluders' grid). */
+/* Floods component K on grid gr, box lo..hi (inclusive, lo[up] >= 1): PVS__G_T/B/W, reached nodes into fl->bits; 0:
+   outside never entered. mark_touched: PVS__VX_TOUCHED too (gr: occluders' grid) */
 PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
 		const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl,
 		int mark_touched) {
@@ -11310,7 +11286,7 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
 	return pvs__vx_flood_run(fl->bits, fl->queue, &qh, &qt, fb.d, fb.stride, lo, fb.up, ext);
 }
 
-/* Certifies K on occluders' grid: unflooded pure voxels solid; if never entered, outside box but ground too. */
+/* Certifies K on occluders' grid: unflooded pure voxels solid; if never entered, outside box but ground too */
 PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
 		const uint32_t hi[3], double m, pvs__vx_flood *fl) {
 	uint32_t d[3], i, j, k;
@@ -11341,9 +11317,9 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
 /* ---- 2.5D occluders: proved-solid columns at finer resolution, eroded by distance ----
 
    Each component floods again on own grid (voxel eps, grown within budgets). Column-map square (side eps / 2, larger
-   past PVS__VX_MAP_BUDGET): solid height = min top of proved-solid ground runs in its voxel columns; occluder height
-   (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below component's triangles within eps. Squares grow by
-   margin over coordinate float precision. */
+   past PVS__VX_MAP_BUDGET): solid height = min top of proved-solid ground runs in voxel columns; occluder height (Wonka
+   2000 §2, appendix: shrunk by eps) = that, cut to eps below component's triangles within eps. Squares grow by margin
+   over coordinates' float precision */
 
 #define PVS__VX_BOX_BUDGET (1u << 23)
 #define PVS__VX_MAP_BUDGET (1u << 22)
@@ -11354,7 +11330,7 @@ PVS__STATIC int pvs__float_cmp(const void *a, const void *b) {
 }
 
 /* Min height of triangle p clipped to prism over octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <= u - v
-   <= d1} (DBL_MAX: none). */
+   <= d1} (DBL_MAX: none) */
 PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, const double lim[8]) {
 	static const double nu[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, nv[8] = {0, 0, -1, 1, -1, 1, 1, -1};
 	double a[16][3], b[16][3], best = DBL_MAX;
@@ -11382,7 +11358,7 @@ PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, i
 	return best;
 }
 
-/* pvs__vx_scan visitor: triangle's min height near each map square. */
+/* pvs__vx_scan visitor: triangle's min height near each map square */
 typedef struct pvs__vx_tminvisit {
 	const pvs__vx_grid *gr;
 	double p[3][3], e, margin; /* triangle; near = within e */
@@ -11393,7 +11369,7 @@ typedef struct pvs__vx_tminvisit {
 	float *tmin; /* per square from (su0, sv0), rows of row */
 	uint32_t su0, sv0, row;
 } pvs__vx_tminvisit;
-/* Lower bounds letting pvs__vx_tmin_visit skip clip. */
+/* Lower bounds letting pvs__vx_tmin_visit skip clip */
 PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
 	const double *a = tv->p[0], *b = tv->p[1], *c = tv->p[2];
 	int u = tv->u, v = tv->v, up = tv->up;
@@ -11436,7 +11412,7 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
 }
 
 /* tmin, row-major over map squares sq0..sq1: min height of K's triangles within e of each (pvs__vx_tmin_visit; FLT_MAX:
-   none). */
+   none) */
 PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
 		const uint32_t sq0[3], const uint32_t sq1[3], double e, double margin,
 		float *tmin) {
@@ -11469,7 +11445,7 @@ PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo
 	}
 }
 
-/* Component's column-map pass: flood, ground runs, squares' solid, occluder heights. */
+/* Component's column-map pass: flood, ground runs, squares' solid, occluder heights */
 PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
 		const pvs__vx_grid *gk, const uint32_t lo[3], const uint32_t hi[3],
 		double m, double eps, double margin, pvs__vx_flood *fl) {
@@ -11560,11 +11536,11 @@ typedef struct pvs__vx_chainbuf {
 } pvs__vx_chainbuf;
 
 
-/* (b - a) x (c - a), integer points (exact). */
+/* (b - a) x (c - a), integer points (exact) */
 PVS__STATIC int64_t pvs__vx_orient_i(const int32_t *a, const int32_t *b, const int32_t *c) {
 	return (int64_t)(b[0] - a[0]) * (c[1] - a[1]) - (int64_t)(b[1] - a[1]) * (c[0] - a[0]);
 }
-/* 1 if closed segments p-q, r-t meet (exact). */
+/* 1 if closed segments p-q, r-t meet (exact) */
 PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int32_t *r, const int32_t *t) {
 	int64_t d1 = pvs__vx_orient_i(p, q, r), d2 = pvs__vx_orient_i(p, q, t), d3 = pvs__vx_orient_i(r, t, p),
 			d4 = pvs__vx_orient_i(r, t, q);
@@ -11578,8 +11554,8 @@ PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int
 }
 
 /* Simplifies loop of n integer points (region on left) from inside, in place (pt: room for 2n): from each kept point to
-   farthest later one whose chord keeps skipped points right of or on it, <= a square off, meeting no other loop edge;
-   returns count. */
+   farthest later one whose chord keeps skipped points on or right of it, <= a square off, meeting no other loop edge;
+   returns count */
 PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 	uint32_t i = 0, kept = 0, j, k, start;
 	int32_t *out;
@@ -11627,7 +11603,7 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 
 /* Traces boundary loops of mask's set squares (w x h, empty frame around), set on left, turning left where diagonal
    squares meet (4-connected). Simplified, each: chain of heights [base, top], point (i, j) at (ox + i c, oy + j c):
-   outer (CCW) loops closed, holes open, repeating first point. used: 4 (w + 1) (h + 1) bytes. 0: OOM. */
+   outer (CCW) loops closed, holes open (first point repeated). used: 4 (w + 1) (h + 1) bytes. 0: OOM */
 PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
 		uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
 		int32_t **ip, size_t *ipcap) {
@@ -11717,7 +11693,7 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 	return 1;
 }
 
-/* pvs__vx_build_chains scratch; cb: chains so far. */
+/* pvs__vx_build_chains scratch; cb: chains so far */
 typedef struct pvs__vx_chainwork {
 	pvs_occluders *o;
 	uint32_t *label, *queue, *members; /* per map square */
@@ -11730,7 +11706,7 @@ typedef struct pvs__vx_chainwork {
 	pvs__vx_chainbuf cb;
 } pvs__vx_chainwork;
 
-/* Labels x's region nlab (4-connected squares with occluder height) into w->members, sets its frame; returns size. */
+/* Labels x's region nlab (4-connected squares with occluder height) into w->members, sets its frame; size */
 PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32_t nlab) {
 	const pvs__vx_cols *cm = &w->o->cols;
 	uint32_t *label = w->label, *queue = w->queue, i0, i1, j0, j1, nm = 0;
@@ -11763,7 +11739,7 @@ PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32
 	return nm;
 }
 
-/* Level L's chains: per 4-connected sub-region of region's squares >= L with one at L, its boundary at L. 0: OOM. */
+/* Level L's chains: per 4-connected sub-region of region's squares >= L with one at L, its boundary at L. 0: OOM */
 PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) {
 	const pvs__vx_cols *cm = &w->o->cols;
 	uint32_t *queue = w->queue, *sub = w->sub, bw = w->bw, bh = w->bh, i0 = w->i0, j0 = w->j0, nsub = 0, k;
@@ -11806,7 +11782,7 @@ PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) 
 	return 1;
 }
 
-/* Region chains: pvs__vx_chain_level per distinct level, ascending. 0: OOM. */
+/* Region chains: pvs__vx_chain_level per distinct level, ascending. 0: OOM */
 PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
 	const pvs_allocator *al = &w->o->allocator;
 	const pvs__vx_cols *cm = &w->o->cols;
@@ -11859,7 +11835,7 @@ PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_
 }
 
 /* 2.5D chains: occluder heights quantized down to quarter squares; per 4-connected region of squares at or above one of
-   its levels, its boundary there (level-set tree: no crack between heights). */
+   its levels, its boundary there (level-set tree: no crack between heights) */
 PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
 	pvs__vx_cols *cm = &o->cols;
 	const pvs_allocator *al = &o->allocator;
@@ -11940,8 +11916,8 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
 	return PVS_OK;
 }
 
-/* Components' grid voxel: eps, grown by 1.26 while their boxes exceed PVS__VX_TOTAL_BUDGET voxels (or
-   PVS__VX_COMPONENT_SHARE each, if more): flood cost ~ scene size. */
+/* Components' grid voxel: eps, grown by 1.26 while boxes exceed PVS__VX_TOTAL_BUDGET voxels (or
+   PVS__VX_COMPONENT_SHARE each, if more): flood cost ~ scene size */
 #define PVS__VX_TOTAL_BUDGET (1u << 26)
 #define PVS__VX_COMPONENT_SHARE (1u << 16)
 PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx_topo *tp, const pvs_allocator *al,
@@ -11993,7 +11969,7 @@ PVS__STATIC void pvs__tri_axis_range(const pvs_scene *s, uint32_t tri, uint32_t 
 	}
 }
 
-/* comp's voxel box lo..hi in gr: voxels within m of its triangle extents (open edges: from layer 1); count. */
+/* comp's voxel box lo..hi in gr: voxels within m of triangle extents (open edges: from layer 1); count */
 PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gr,
 		double m, uint32_t lo[3], uint32_t hi[3]) {
 	uint32_t t, k, r0, r1, up = s->up_axis;
@@ -12016,7 +11992,7 @@ PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, 
 	return vol;
 }
 
-/* Column map, chains, pyramids (3+ triangle components). */
+/* Column map, chains, pyramids (3+ triangle components) */
 PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps,
 		double m, pvs__vx_flood *fl) {
 	const pvs_scene *s = o->scene;
@@ -12092,13 +12068,13 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 }
 
 /* pvs_occluders_create's shared step state. Steps return PVS_OK or OOM; pvs__vx_build_free frees what error paths
-   leave; steps NULL freed buffers. */
+   leave; steps NULL freed buffers */
 typedef struct pvs__vx_build {
 	const pvs_occluders_desc *d;
 	const pvs_scene *s;
 	pvs_allocator a;
 	pvs_occluders *o;
-	pvs_box ext; /* scene and cell bounds */
+	pvs_box ext; /* scene, cell bounds */
 	double g, h, m; /* ground, voxel size, margin: voxel tests round to "touched" */
 	uint32_t up;
 	int u, v;
@@ -12111,7 +12087,7 @@ typedef struct pvs__vx_build {
 	pvs__vx_flood fl;
 } pvs__vx_build;
 
-/* Frees flood scratch but per-cell buffer (step 5, error path). */
+/* Frees flood scratch but per-cell buffer (step 5, error path) */
 PVS__STATIC void pvs__vx_flood_free(pvs__vx_build *b) {
 	const pvs_allocator *a = &b->a;
 	pvs__vx_flood *fl = &b->fl;
@@ -12125,7 +12101,7 @@ PVS__STATIC void pvs__vx_flood_free(pvs__vx_build *b) {
 	fl->queue = fl->bucket_first = fl->bucket_cells = fl->stamp = NULL;
 }
 
-/* Frees leftover step scratch (caller destroys b->o). */
+/* Frees leftover step scratch (caller destroys b->o) */
 PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
 	const pvs_allocator *a = &b->a;
 	pvs__vx_flood_free(b);
@@ -12138,7 +12114,7 @@ PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
 }
 
 /* Voxel grid over scene and cells: voxel_size or eps / 1.5 (erosion: 2 voxels = 1.33 eps), grown by 1.08 to fit
-   max_voxels; layer 0 below ground. Allocates b->o, its state, eroded, b->tmp, b->line; none on failure (err: why). */
+   max_voxels; layer 0 below ground. Allocates b->o, its state, eroded, b->tmp, b->line; none on failure (err: why) */
 PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	const pvs_occluders_desc *d = b->d;
 	const pvs_allocator *a = &b->a;
@@ -12207,7 +12183,7 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	return PVS_OK;
 }
 
-/* Cells, per-cell scratch, ground buckets (PVS__VX_BUCKET voxel columns a side) of cells whose box + m meets them. */
+/* Cells, per-cell scratch, ground buckets (PVS__VX_BUCKET voxel columns a side) of cells whose box + m meets them */
 PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
 	const pvs_occluders_desc *d = b->d;
 	const pvs_allocator *a = &b->a;
@@ -12263,7 +12239,7 @@ PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Step 1's component boxes (b->cbox, pvs__vx_comp_box); flood scratch for largest 3+ triangle box. */
+/* Step 1's component boxes (b->cbox, pvs__vx_comp_box); flood scratch for largest 3+ triangle box */
 PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
 	const pvs_scene *s = b->s;
 	const pvs__vx_topo *tp = &b->tp;
@@ -12283,7 +12259,7 @@ PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
 }
 
 /* Step 1, solid proved per component (pvs__vx_orient): 3+ triangle ones certified. Allocates b->queue (kept for leak
-   flood), frees other scratch. */
+   flood); frees other scratch */
 PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
 	static const int xyz[3] = {0, 1, 2};
 	pvs_occluders *o = b->o;
@@ -12332,7 +12308,7 @@ PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Step 2: voxels above ground wholly in explicit occluder get PVS__VX_EXPLICIT | PVS__VX_SOLID. */
+/* Step 2: voxels above ground wholly in explicit occluder get PVS__VX_EXPLICIT | PVS__VX_SOLID */
 PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 	const pvs_scene *s = o->scene;
 	double h = o->h;
@@ -12357,8 +12333,8 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 	}
 }
 
-/* Step 3, leak diagnostic: 6-connected flood from grid border through voxels not touched, ground or explicit.
-   info.leak_cells: cells reached; info.leak_cell, leak_point: lowest, reached voxel. Uses b->queue. */
+/* Step 3, leak diagnostic: 6-connected flood from grid border through voxels not touched, ground, explicit.
+   info.leak_cells: cells reached; info.leak_cell, leak_point: lowest, reached voxel; uses b->queue */
 PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
 	const pvs_occluders_desc *d = b->d;
@@ -12409,7 +12385,7 @@ PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 	}
 }
 
-/* After steps 1-3: o->eroded = solid (step 5 erodes), info.solid, info.thin_objects (drawables, no box voxel solid). */
+/* After steps 1-3: o->eroded = solid (step 5 erodes), info.solid, info.thin_objects (drawables, no box voxel solid) */
 PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
 	const pvs_scene *s = o->scene;
 	uint32_t c, i, j, k;
@@ -12433,7 +12409,7 @@ PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
 }
 
 /* Step 4, 2.5D occluders: ground solid runs (info.column_voxels; is_2d5 at 90% of solid), column map, chains,
-   hierarchies; frees flood scratch but per-cell bytes. */
+   hierarchies; frees flood scratch but per-cell bytes */
 PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
 	uint32_t up = b->up;
@@ -12456,7 +12432,7 @@ PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Cells left out by floods (o->excluded, o->excluded_boxes); frees per-cell bytes, clears b->fl. */
+/* Cells left out by floods (o->excluded, o->excluded_boxes); frees per-cell bytes, clears b->fl */
 PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
 	const pvs_occluders_desc *d = b->d;
@@ -12482,7 +12458,7 @@ PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
 }
 
 /* Step 5, occluders shrunk by eps (Wonka 2000 §2, appendix): solid eroded by r voxels (Chebyshev; outside, ground
-   empty), greedily merged into o->boxes (NULL if OOM). */
+   empty), greedily merged into o->boxes (NULL: OOM) */
 PVS__STATIC void pvs__vx_erode_merge(pvs__vx_build *b, uint32_t r) {
 	pvs_occluders *o = b->o;
 	size_t vi, total = b->total;
@@ -12623,7 +12599,7 @@ typedef struct pvs__walk {
 	pvs_kdtree *solids; /* over cbox */
 } pvs__walk;
 
-/* 1 if p inside closed mesh: odd crossings above p (ambiguous: not inside). */
+/* 1 if p inside closed mesh: odd crossings above p (ambiguous: not inside) */
 PVS__STATIC int pvs__walk_inside(const pvs__walk *k, const float p[3]) {
 	uint32_t n = 0, i;
 	const uint32_t *items = pvs_kdtree_leaf_items(k->solids, p, &n);
@@ -12674,7 +12650,7 @@ PVS__STATIC void pvs__walk_point(const pvs__walk *k, uint32_t col, double h, flo
 	p[k->up] = (float)h;
 }
 
-/* 1 if p's eye in view volume (or none given). */
+/* 1 if p's eye in view volume (or none given) */
 PVS__STATIC int pvs__walk_in_volumes(const pvs__walk *k, const float p[3]) {
 	float e[3];
 	uint32_t i;
@@ -12685,7 +12661,7 @@ PVS__STATIC int pvs__walk_in_volumes(const pvs__walk *k, const float p[3]) {
 	return !k->d.volume_count;
 }
 
-/* Floors of one column, top down. */
+/* Floors of one column, top down */
 PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	const pvs_scene *s = k->s;
 	float o[3], dir[3] = {0, 0, 0}, p[3], a[3];
@@ -12730,13 +12706,13 @@ PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	return 1;
 }
 
-/* Most a walk climbs between neighbouring columns: step, or ramp/stairs at max_slope. */
+/* Most a walk climbs between neighbouring columns: step, or ramp/stairs at max_slope */
 PVS__STATIC double pvs__walk_climb(const pvs__walk *k) {
 	return pvs__dmax(k->d.step_height, k->hs * tan((double)k->d.max_slope));
 }
 
 /* Links samples of neighbouring columns a climb apart whose knee-high segment is free (next[]); only within square
-   (merge reads next[] across its sides). */
+   (merge reads next[] across its sides) */
 PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent) {
 	double climb = pvs__walk_climb(k);
 	size_t a, b;
@@ -12764,7 +12740,7 @@ PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent) {
 		}
 }
 
-/* Group of linked samples in one square. */
+/* Group of linked samples in one square */
 typedef struct pvs__wgroup {
 	uint32_t square, root, count, lo_u, hi_u, lo_v, hi_v, used;
 	float lo, hi;
@@ -12776,7 +12752,7 @@ PVS__STATIC int pvs__wgroup_before(const void *pa, const void *pb) {
 	return a->lo < b->lo || (a->lo == b->lo && a->root < b->root);
 }
 
-/* 1 if group one level over every column of rectangle. */
+/* 1 if group one level over every column of rectangle */
 PVS__STATIC int pvs__wgroup_rect(const pvs__walk *k, const pvs__wgroup *g) {
 	return g->count == (g->hi_u - g->lo_u + 1) * (g->hi_v - g->lo_v + 1) && g->hi - g->lo <= k->d.step_height;
 }
@@ -12788,8 +12764,8 @@ PVS__STATIC uint32_t pvs__walk_sample_of(const pvs__walk *k, const pvs__wgroup *
 	return PVS__WNONE;
 }
 
-/* 1 if rectangle b continues a across a's square side dirn (0: +u, 1: +v): same extent, every pair across linked,
-   heights within a step with [lo, hi]. */
+/* 1 if rectangle b continues a across a's square side dirn (0: +u, 1: +v): same extent, all pairs across linked,
+   heights within a step of [lo, hi] */
 PVS__STATIC int pvs__walk_joins(const pvs__walk *k, const pvs__wgroup *a, const pvs__wgroup *b, uint32_t dirn, float lo,
 		float hi) {
 	uint32_t i, n = dirn ? a->hi_u - a->lo_u + 1 : a->hi_v - a->lo_v + 1;
@@ -12806,7 +12782,7 @@ PVS__STATIC int pvs__walk_joins(const pvs__walk *k, const pvs__wgroup *a, const 
 	return 1;
 }
 
-/* Group of square (gx, gz) continuing a across side dirn within [lo, hi], or NULL. */
+/* Group of square (gx, gz) continuing a across side dirn within [lo, hi], or NULL */
 PVS__STATIC pvs__wgroup *pvs__walk_find(const pvs__walk *k, pvs__wgroup *g, const uint32_t *sq_first, uint32_t gx,
 		uint32_t gz, const pvs__wgroup *a, uint32_t dirn, float lo, float hi) {
 	uint32_t gnu = (k->nu + 3) / 4, sq = gz * gnu + gx, i;
@@ -12817,7 +12793,7 @@ PVS__STATIC pvs__wgroup *pvs__walk_find(const pvs__walk *k, pvs__wgroup *g, cons
 }
 
 /* Emits box over columns [u0, u1] + spacing / 2, from 1/4 eye height over lo to eye height over hi, clipped to view
-   volumes met. */
+   volumes met */
 PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, uint32_t v0, uint32_t v1, float lo,
 		float hi, pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs_box b, in = pvs__box_empty();
@@ -12835,8 +12811,8 @@ PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, ui
 	++*n;
 }
 
-/* Rectangle group grown over neighbouring squares (<= max_merge per side, rows of equal extent), or other groups as box
-   per run of equal sample rows. */
+/* Rectangle group grown over neighbouring squares (<= max_merge per side, rows of equal extent), else as box per run of
+   equal sample rows */
 PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint32_t *sq_first, pvs__wgroup *a0,
 		pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs__wgroup *run[64], *row[8];
@@ -12895,7 +12871,7 @@ PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint3
 	pvs__walk_emit(k, run[0]->lo_u, run[nr - 1]->hi_u, run[0]->lo_v, run[nr - 1]->hi_v, lo, hi, cells, capacity, n);
 }
 
-/* Groups linked samples per square, emits cells (pvs_walkable_cells). */
+/* Groups linked samples per square, emits cells (pvs_walkable_cells) */
 PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t capacity, uint32_t *count,
 		pvs_error *err) {
 	const pvs_allocator *al = &k->d.allocator;
@@ -12943,7 +12919,7 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 }
 
 /* BFS from sample s0 (k->local[] zero; k->global: queue): walk climbs pvs__walk_climb knee to knee, or drops any height
-   (across at knee, then down). Marks k->local[] of those reached; returns count. */
+   (across at knee, then down). Marks k->local[] of those reached; count */
 PVS__STATIC uint32_t pvs__walk_reach(pvs__walk *k, uint32_t s0) {
 	double climb = pvs__walk_climb(k);
 	uint32_t head = 0, tail = 0, d, b;
@@ -13046,7 +13022,7 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 		}
 		memset(k.local, 0, nlink * sizeof(uint32_t));
 		if (keep != PVS__WNONE) tail = pvs__walk_reach(&k, keep);
-		for (a = 0, c = 0; tail && a < k.n; ++a) /* compacted, still in column order */
+		for (a = 0, c = 0; tail && a < k.n; ++a) /* compacted, in column order */
 			if (k.local[a]) k.w[c++] = k.w[a];
 		k.n = c;
 		memset(k.first, 0, (ncol + 1) * sizeof(uint32_t));
@@ -13073,16 +13049,16 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 /* ==== vocc: virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): aggregate umbrae grown from seeds along active
    supporting and separating lines (§3), 2.5D by height slices (§3.1), greedy selection (Fig. 6), 5 quantized bytes
    per occluder, PVS rebuilt on cell entry (§2, §4) ==== */
-/* 2D (§3): cell C rectangle, occluders opaque segments. Wall loop: segments closing ring with exactly equal ends; its
+/* 2D (§3): cell C rectangle, occluders opaque segments. Wall loop: segments closing ring, ends exactly equal; its
    hull, if missing C, blocks for points outside. §3's objects: these hulls, other segments. x hidden iff every segment
-   C-x meets blocker. Convex blocker disjoint from C and x covers interval of C's fan from x, wholly before or behind C
-   per ray: x hidden if intervals before C cover fan (pvs__vo_hidden). Along line answer changes only at object
-   boundaries or common tangents through C of 2 objects (or object and C): a point per interval between events finds
-   hidden parts up to rounding (pvs__vo_line_hidden); each virtual occluder checked so after final rounding. Growth
-   (§3): seeds by subtended angle; aggregate grows both sides along active supporting line P (outer tangent of C and
-   aggregate) and separating polyline Q (first inner tangent). Object B hit by active line: (1) meets umbra U (probe of
-   B hidden sans B): joins U, P and Q move to it, new occluder behind B or (3, found on Q) furthest one extends; (2)
-   meets only Q: bends Q, joins blockers. New occluder dumps current one into dense set ("periodically dumped", §3). */
+   C-x meets blocker. Convex blocker disjoint from C, x covers interval of C's fan from x, wholly before or behind C per
+   ray: x hidden if intervals before C cover fan (pvs__vo_hidden). Along line answer changes only at object boundaries
+   or common tangents through C of 2 objects (or object and C): a point per interval between events finds hidden parts
+   up to rounding (pvs__vo_line_hidden); each virtual occluder so checked after final rounding. Growth (§3): seeds by
+   subtended angle; aggregate grows both sides along active supporting line P (outer tangent of C and aggregate),
+   separating polyline Q (first inner tangent). Object B hit by active line: (1) meets umbra U (probe of B hidden sans
+   B): joins U, P and Q move to it, new occluder behind B or (3, found on Q) furthest one extends; (2) meets only Q:
+   bends Q, joins blockers. New occluder dumps current one into dense set ("periodically dumped", §3) */
 
 #define PVS__VO_NONE 0xffffffffu
 #define PVS__VO_MAXH 64u /* max hull vertices of loop blocker */
@@ -13099,7 +13075,7 @@ PVS__STATIC int pvs__vo_reserve(const pvs_allocator *a, void **p, uint32_t *cap,
 }
 #define PVS__VO_FREE(a, p, cap, T) pvs__free((a), (p), (size_t)(cap) * sizeof(T), 16)
 
-/* Monotone pseudo-angle of (cos-like d, sin-like c): (-2, 2], 0 along d. */
+/* Monotone pseudo-angle of (cos-like d, sin-like c): (-2, 2], 0 along d */
 PVS__STATIC double pvs__vo_pangle(double d, double c) {
 	double den = fabs(c) + fabs(d), p;
 	if (!(den > 0.0)) return 0.0;
@@ -13107,7 +13083,7 @@ PVS__STATIC double pvs__vo_pangle(double d, double c) {
 	if (d >= 0.0) return p;
 	return c >= 0.0 ? 2.0 - p : -2.0 - p;
 }
-/* Direction of pseudo-angle p in [-1, 1]. */
+/* Direction of pseudo-angle p in [-1, 1] */
 PVS__STATIC void pvs__vo_pangle_dir(double p, double *d, double *c) {
 	*d = 1.0 - fabs(p);
 	*c = p;
@@ -13142,7 +13118,7 @@ typedef struct pvs__vprep {
 	size_t gitems;
 } pvs__vprep;
 
-/* vprep's buffers (pvs__buf) for p->nseg segments; the last 2, the grid's, made by pvs__vprep_grid. */
+/* vprep's buffers (pvs__buf) for p->nseg segments; last 2, grid's, made by pvs__vprep_grid */
 PVS__STATIC int pvs__vprep_bufs(pvs__vprep *p, pvs__buf *b) {
 	int k = 0;
 	size_t m = p->nseg;
@@ -13181,14 +13157,14 @@ PVS__STATIC void pvs__vo_bb_add(double *bb, const double *p) {
 }
 
 
-/* pvs__vprep_create's scratch (m segments): keys, deg, uf, idx, hidx 2m + 2, adj 4m + 4. */
+/* pvs__vprep_create's scratch (m segments): keys, deg, uf, idx, hidx 2m + 2, adj 4m + 4 */
 typedef struct pvs__vprep_scratch {
 	pvs__key_index *keys;
 	uint32_t *deg, *adj, *uf, *idx, *hidx;
 	uint32_t nv; /* distinct vertices */
 } pvs__vprep_scratch;
 
-/* Vertex ids (p->seg_vid): ends sorted by (x, y), one id per point; sets w->nv. */
+/* Vertex ids (p->seg_vid): ends sorted by (x, y), one id per point; sets w->nv */
 PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
 	pvs__key_index *keys = w->keys;
 	uint32_t m = p->nseg, i, nv = 0;
@@ -13209,8 +13185,8 @@ PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
 	w->nv = nv;
 }
 
-/* Per vertex: degree (w->deg), first 2 segments (w->adj), component root (w->uf); per root w->idx = 1 if not loop
-   (vertex of degree != 2). p->seg_loop = -1. */
+/* Per vertex: degree (w->deg), first 2 segments (w->adj), component root (w->uf); per root w->idx = 1: not loop (vertex
+   of degree != 2). p->seg_loop = -1 */
 PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 	uint32_t *deg = w->deg, *adj = w->adj, *uf = w->uf, *idx = w->idx, m = p->nseg, nv = w->nv, i;
 	for (i = 0; i < nv; ++i) { deg[i] = 0; uf[i] = i; }
@@ -13233,7 +13209,7 @@ PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 		if (deg[i] != 2) idx[uf[i]] = 1;
 }
 
-/* Wall loops (degree-2 components) from lowest segment into ring_seg/pt, loop_start; lowest top, box, hull_*. */
+/* Wall loops (degree-2 components) from lowest segment into ring_seg/pt, loop_start; lowest top, box, hull_* */
 PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 	uint32_t *adj = w->adj, *uf = w->uf, *idx = w->idx, *hidx = w->hidx, m = p->nseg, ring = 0, h = 0, i;
 	p->nloop = 0;
@@ -13284,7 +13260,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 	}
 }
 
-/* §3's objects (Koltun 2000): loops with 3..PVS__VO_MAXH hull vertices, then other segments; box, top. */
+/* §3's objects (Koltun 2000): loops with 3..PVS__VO_MAXH hull vertices, then other segments; box, top */
 PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
 	uint32_t i;
 	p->nobj = 0;
@@ -13310,7 +13286,7 @@ PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
 	}
 }
 
-/* Bucket grid (~2 objects a bucket, <= 1024^2): object in buckets its box covers, long wall in those along it. */
+/* Bucket grid (~2 objects a bucket, <= 1024^2): object in buckets its box covers, long wall in those along it */
 PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 	double w, hh, cs;
 	size_t total = 0, cells;
@@ -13383,7 +13359,7 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 	return PVS_OK;
 }
 
-/* Prepares n segments (4 doubles, ground; 0-length dropped), tops: vertex ids (exact), loops, hulls, objects, grid. */
+/* Prepares n segments (4 doubles, ground; 0-length dropped), tops: vertex ids (exact), loops, hulls, objects, grid */
 PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n,
 		pvs__vprep **out) {
 	pvs__vprep *p;
@@ -13433,7 +13409,7 @@ done:
 typedef struct pvs__vobj {
 	uint32_t first, n; /* vx[first, +n): n = 2 segment, else ccw hull */
 	int32_t loop; /* hull's wall loop (inside test), -1 */
-	uint32_t mark, visit;	/* growth and query stamps */
+	uint32_t mark, visit;	/* growth, query stamps */
 	uint32_t used; /* in aggregate of slice: no seed */
 	double bb[4];
 	double angle; /* subtended from cell centre: seed order */
@@ -13444,7 +13420,7 @@ typedef struct pvs__vo_span {
 	uint32_t is, ie; /* ends' vertex ids (PVS__VO_NONE) */
 } pvs__vo_span;
 
-/* Dense-set virtual occluder: ends in cell frame as checked after rounding and as stored. */
+/* Dense-set virtual occluder: ends in cell frame as checked after rounding, as stored */
 typedef struct pvs__vo_cand {
 	double a[2], b[2];
 	float f[4]; /* pvs_vocc_2d: world ends */
@@ -13522,7 +13498,7 @@ PVS__STATIC void pvs__vctx_free(pvs__vctx *c) {
 	PVS__ZERO(*c);
 }
 
-/* c's cell relative to centre: cmin, cmax, corners ccw from cmin. */
+/* c's cell relative to centre: cmin, cmax, corners ccw from cmin */
 PVS__STATIC void pvs__vo_cell_frame(pvs__vctx *c, const double *cmin, const double *cmax, const double *centre) {
 	int k;
 	for (k = 0; k < 2; ++k) {
@@ -13536,7 +13512,7 @@ PVS__STATIC void pvs__vo_cell_frame(pvs__vctx *c, const double *cmin, const doub
 	c->corner[6] = c->cmin[0]; c->corner[7] = c->cmax[1];
 }
 
-/* Cell frame (ground rectangle, world) over prepared occluders. */
+/* Cell frame (ground rectangle, world) over prepared occluders */
 PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs__vprep *p, const double cmin[2],
 		const double cmax[2], double range) {
 	int k;
@@ -13561,7 +13537,7 @@ PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs_
 	return 1;
 }
 
-/* Least t in [0, tmax] where ray x + t w enters cell grown by g, -1 on miss. */
+/* Least t in [0, tmax] where ray x + t w enters cell grown by g, -1: miss */
 PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const double *w, double g, double tmax) {
 	double s0 = 0.0, s1 = tmax;
 	int k;
@@ -13579,7 +13555,7 @@ PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const d
 	return s0 <= s1 ? s0 : -1.0;
 }
 
-/* 1 if ccw convex polygon v (n >= 3) meets cell grown by tol (separating axes). */
+/* 1 if ccw convex polygon v (n >= 3) meets cell grown by tol (separating axes) */
 PVS__STATIC int pvs__vo_poly_meets_cell(const pvs__vctx *c, const double *v, uint32_t n) {
 	double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
 	uint32_t i, k;
@@ -13638,7 +13614,7 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
 	return c->nobj++;
 }
 
-/* Wall s as blocker if it reaches h, misses cell grown by tol. */
+/* Wall s as blocker if it reaches h, misses cell grown by tol */
 PVS__STATIC void pvs__vo_add_seg(pvs__vctx *c, uint32_t s, float h) {
 	const pvs__vprep *p = c->p;
 	double a[2], d[2];
@@ -13648,7 +13624,7 @@ PVS__STATIC void pvs__vo_add_seg(pvs__vctx *c, uint32_t s, float h) {
 	if (pvs__vo_ray_cell(c, a, d, c->tol, 1.0) < 0.0) pvs__vo_add_obj(c, p->seg + 4 * s, p->seg_vid + 2 * s, 2, -1);
 }
 
-/* Slice h's blockers: loops reaching h whose hull misses cell (as hulls), other walls reaching h, missing it. */
+/* Slice h's blockers: loops reaching h whose hull misses cell (as hulls), other walls reaching h, missing it */
 PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 	const pvs__vprep *p = c->p;
 	uint32_t i, j;
@@ -13682,7 +13658,7 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 
 /* ---- exact hidden tests */
 
-/* 1 if x inside wall loop l (odd crossings), over tol from its walls; only loops whose hull misses cell. */
+/* 1 if x inside wall loop l (odd crossings), over tol from its walls; only loops whose hull misses cell */
 PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x) {
 	const pvs__vprep *p = c->p;
 	uint32_t s = p->loop_start[l], n = p->loop_start[l + 1] - s, i, odd = 0;
@@ -13701,7 +13677,7 @@ PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x)
 	return (int)odd;
 }
 
-/* Entry distance of ray x + s w into o, -1 on miss. */
+/* Entry distance of ray x + s w into o, -1 on miss */
 PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const double *x, const double *w) {
 	const double *v = c->vx + 2 * (size_t)o->first;
 	if (o->n == 2) {
@@ -13731,7 +13707,7 @@ PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const
 	}
 }
 
-/* 1 if x in convex object o or within tol (o unusable from x). */
+/* 1 if x in convex object o or within tol (o unusable from x) */
 PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const double *x) {
 	const double *v = c->vx + 2 * (size_t)o->first;
 	uint32_t i;
@@ -13752,14 +13728,14 @@ PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const d
 	return 1;
 }
 
-/* Cell's fan from x: extreme corners cl, ch, unit bisector f, edge pseudo-angles aL, aR about f, box of cell and x
-   grown by tol. */
+/* Cell's fan from x: extreme corners cl, ch, unit bisector f, edge pseudo-angles aL, aR about f, box of cell, x grown
+   by tol */
 typedef struct pvs__vo_fan {
 	const double *cl, *ch;
 	double f[2], aL, aR, bb[4];
 } pvs__vo_fan;
 
-/* Fan from x (outside cell); 0 if no direction. */
+/* Fan from x (outside cell); 0: no direction */
 PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fan *fn) {
 	const double *cl, *ch;
 	double tol = c->tol;
@@ -13792,7 +13768,7 @@ PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fa
 }
 
 /* From-point test, blocker o: appends to c->span at *ns (room for 2) fan part o covers before cell (2 if across back
-   direction). 1 if x in o's wall loop (hidden). */
+   direction). 1: x in o's wall loop (hidden) */
 PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn,
 		uint32_t *ns) {
 	const double *v = c->vx + 2 * (size_t)o->first, *cl = fn->cl, *ch = fn->ch, *f = fn->f;
@@ -13856,7 +13832,7 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 }
 
 /* 1 if c->span[0..ns) (sorted here) covers fan [aL, aR]. Spans ending on one vertex join exactly, others need overlap >
-   PVS__VO_ATOL: rounding only says "not hidden". */
+   PVS__VO_ATOL: rounding only says "not hidden" */
 PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double aR) {
 	double reach;
 	uint32_t i, k, rid;
@@ -13885,7 +13861,7 @@ PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double
 	return 0;
 }
 
-/* Header's from-point test: 1 if every segment from cell to x meets one of set[0..n); rounding only answers 0. */
+/* Header's from-point test: 1 if every segment from cell to x meets one of set[0..n); rounding only answers 0 */
 PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, const double *x) {
 	pvs__vo_fan fn;
 	double tol = c->tol;
@@ -13904,7 +13880,7 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
 
 /* ---- aggregate: blockers, lines where hidden answers can change */
 
-/* Min and max pvs__cross2(p, q, .) over n points x. */
+/* Min, max pvs__cross2(p, q, .) over n points x */
 PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x, uint32_t n, double *mn, double *mx) {
 	uint32_t k;
 	*mn = DBL_MAX;
@@ -13916,7 +13892,7 @@ PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x
 	}
 }
 
-/* Common tangents through cell of convex sets a, b; need_cell 0: a is cell. */
+/* Common tangents through cell of convex sets a, b; need_cell 0: a is cell */
 PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t na, const double *b, uint32_t nb,
 		int need_cell) {
 	uint32_t i, j;
@@ -13947,7 +13923,7 @@ PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t n
 		}
 }
 
-/* Adds o to aggregate's blockers and event lines. */
+/* Adds o to aggregate's blockers, event lines */
 PVS__STATIC void pvs__vo_g_add(pvs__vctx *c, uint32_t o) {
 	const pvs__vobj *b = c->obj + o;
 	uint32_t i;
@@ -13975,7 +13951,7 @@ PVS__STATIC void pvs__vo_ev_push(pvs__vctx *c, uint32_t *n, double t, double t0,
 	c->ev[*n].index = *n;
 	++*n;
 }
-/* Where segment a-b (line if `line`) crosses line p + t d. */
+/* Where segment a-b (line if `line`) crosses line p + t d */
 PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, const double *d, const double *a,
 		const double *b, int line, double t0, double t1) {
 	double ex = b[0] - a[0], ey = b[1] - a[1], den = d[0] * ey - d[1] * ex, qx = a[0] - p[0], qy = a[1] - p[1], t, u;
@@ -13988,7 +13964,7 @@ PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, cons
 	pvs__vo_ev_push(c, n, t, t0, t1);
 }
 
-/* Hidden parts of p + t d, t in [t0, t1], by aggregate's blockers: closed intervals into out (<= cap), count. */
+/* Hidden parts of p + t d, t in [t0, t1], by aggregate's blockers: closed intervals into out (<= cap), count */
 PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const double *d, double t0, double t1,
 		double *out, uint32_t cap) {
 	double bb[4], a[2], b[2], span = t1 - t0, eps;
@@ -14065,7 +14041,7 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 	return c->oom ? 0 : nout;
 }
 
-/* 1 if all of a-b hidden (checked slightly past ends). */
+/* 1 if all of a-b hidden (checked slightly past ends) */
 PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const double *b) {
 	double d[2], iv[2], len, mu;
 	d[0] = b[0] - a[0];
@@ -14079,7 +14055,7 @@ PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const doub
 
 /* ---- growth (§3) */
 
-/* First object not in/refused by aggregate on ray o + s w (w unit), 0 < s <= smax (*s_hit: its s), or PVS__VO_NONE. */
+/* First object not in/refused by aggregate on ray o + s w (w unit), 0 < s <= smax (*s_hit: its s), or PVS__VO_NONE */
 PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const double *w, double smax, double *s_hit) {
 	const pvs__vprep *p = c->p;
 	double ox = o[0] + c->centre[0] - p->g0[0], oy = o[1] + c->centre[1] - p->g0[1], cs = p->gcell, best = DBL_MAX,
@@ -14156,7 +14132,7 @@ PVS__STATIC int pvs__vo_unit(double *w) {
 	return 1;
 }
 
-/* Fused objects' vertices into c->pts (after 4 cell corners if with_cell). */
+/* Fused objects' vertices into c->pts (after 4 cell corners if with_cell) */
 PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
 	uint32_t i, j, n = with_cell ? 4 : 0, total = n;
 	for (i = 0; i < c->nk; ++i) total += c->obj[c->k[i]].n;
@@ -14179,7 +14155,7 @@ PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
 }
 
 /* Active lines of fused objects: supporting ones bridge hull of cell and aggregate, separating: inner common tangents;
-   side 0: left seen from cell; bit s of `which` resets side s's separating line. 0: cell inside it. */
+   side 0: left seen from cell; bit s of `which` resets side s's separating line. 0: cell inside it */
 PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	uint32_t n = pvs__vo_k_points(c, 1), hn, i, found = 0, s;
 	if (!n) return 0;
@@ -14226,7 +14202,7 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	return 1;
 }
 
-/* Case 2: side s's separating polyline bends to b's vertex, b on aggregate's side. */
+/* Case 2: side s's separating polyline bends to b's vertex, b on aggregate's side */
 PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32_t b) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first, *q = sd->qo;
@@ -14249,7 +14225,7 @@ PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32
 	}
 }
 
-/* 1 if probe of b (vertices, edge midpoints, extra) hidden by aggregate sans b (cases 1, 3). */
+/* 1 if probe of b (vertices, edge midpoints, extra) hidden by aggregate sans b (cases 1, 3) */
 PVS__STATIC int pvs__vo_meets_umbra(pvs__vctx *c, uint32_t b, const double *extra, int nextra) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first;
@@ -14269,14 +14245,14 @@ PVS__STATIC int pvs__vo_meets_umbra(pvs__vctx *c, uint32_t b, const double *extr
 	return 0;
 }
 
-/* Angle of p + t d, t in [t0, t1], from cell centre. */
+/* Angle of p + t d, t in [t0, t1], from cell centre */
 PVS__STATIC double pvs__vo_angle(const double *p, const double *d, double t0, double t1) {
 	double a0 = p[0] + t0 * d[0], a1 = p[1] + t0 * d[1], b0 = p[0] + t1 * d[0], b1 = p[1] + t1 * d[1];
 	return fabs(atan2(a0 * b1 - a1 * b0, a0 * b0 + a1 * b1));
 }
 
 /* Hidden parts of p + t d (d unit) in aggregate's wedge (supporting lines widened by 1/4, within analysis radius): *cur
-   gets widest (keep: one around keep_t); returns its angle, 0 if none. */
+   gets widest (keep: one around keep_t); returns angle, 0: none */
 PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const double *p, const double *d,
 		double keep_t, int keep, pvs__vo_cur *cur) {
 	double lo = DBL_MAX, hi = -DBL_MAX, iv[64], best = 0.0, b, cc, disc, w;
@@ -14320,7 +14296,7 @@ PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const 
 
 /* Virtual occluder behind b (§3): widest hidden interval on 3 lines just past b: across umbra (normal to supporting
    lines' bisector), silhouette chord through their contacts, across b's view from cell centre. keep (case 3): current
-   line, interval around its middle. */
+   line, interval around its middle */
 PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, pvs__vo_cur *cur, int keep) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first;
@@ -14383,7 +14359,7 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
 /* ---- quantization: 5 bytes per occluder, relative to cell (VOCC section) */
 
 /* Cell scale S = 2^((code - 128) / 8), code 0..255 (exact: constant x power of 2). Byte q: coordinate centre + S (q -
-   128) |q - 128| / 16384, -S to 0.98 S, finer near cell. */
+   128) |q - 128| / 16384, -S to 0.98 S, finer near cell */
 PVS__STATIC double pvs__vo_scale(uint32_t code) {
 	static const double mant[8] = {1.0, 1.0905077326652577, 1.189207115002721, 1.2968395546510096,
 								   1.4142135623730951, 1.5422108254079407, 1.681792830507429, 1.8340080864093424};
@@ -14393,7 +14369,7 @@ PVS__STATIC double pvs__vo_offset(double scale, uint32_t q) {
 	int32_t d = (int32_t)q - 128;
 	return scale * (double)(d * (d < 0 ? -d : d)) / 16384.0;
 }
-/* Largest byte with offset <= x (else 0). */
+/* Largest byte with offset <= x (else 0) */
 PVS__STATIC uint32_t pvs__vo_floor_code(double scale, double x) {
 	double r = x / scale * 16384.0, d = r < 0.0 ? -sqrt(-r) : sqrt(r);
 	int32_t q = (int32_t)floor(d) + 128;
@@ -14403,12 +14379,12 @@ PVS__STATIC uint32_t pvs__vo_floor_code(double scale, double x) {
 	while (q > 0 && pvs__vo_offset(scale, (uint32_t)q) > x) --q;
 	return (uint32_t)q;
 }
-/* Frame origin as file reader computes it: float centre of stored float box. */
+/* Frame origin as file reader computes it: float centre of stored float box */
 PVS__STATIC void pvs__vo_cell_centre(const pvs_box *cell, int u, int v, double centre[2]) {
 	centre[0] = (double)(0.5f * cell->min[u] + 0.5f * cell->max[u]);
 	centre[1] = (double)(0.5f * cell->min[v] + 0.5f * cell->max[v]);
 }
-/* Smallest scale code whose range holds all points within reach of centre. */
+/* Smallest scale code whose range holds all points within reach of centre */
 PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
 	uint32_t code;
 	for (code = 0; code < 255; ++code)
@@ -14418,7 +14394,7 @@ PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
 }
 
 /* Rounds occluder a-b (cell frame) to stored bytes, shrinking it, ends away from cell ("toward smaller occluders",
-   §4), then checks exactly; 6 tries, shrinking more each. 1 with *out filled. */
+   §4), then checks exactly; 6 tries, each shrinking more. 1: *out filled */
 #ifndef PVS_RUNTIME_ONLY
 PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b0, pvs__vo_cand *out) {
 	static const double shrink[6] = {0.0, 0.03, 0.08, 0.15, 0.25, 0.38};
@@ -14522,7 +14498,7 @@ PVS__STATIC void pvs__vo_dump(pvs__vctx *c, pvs__vo_cur *cur) {
 	cur->valid = 0;
 }
 
-/* Grows one seed's aggregate umbra (§3, Figs. 3, 4: both sides at once). */
+/* Grows one seed's aggregate umbra (§3, Figs. 3, 4: both sides at once) */
 PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 	pvs__vo_side sd[2];
 	pvs__vo_cur cur;
@@ -14602,7 +14578,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 	if (c->ng > 1 && pvs__vo_place(c, sd, seed, &cur, 0)) pvs__vo_dump(c, &cur);
 }
 
-/* Grows <= max_seeds seeds of slice, largest angle first. */
+/* Grows <= max_seeds seeds of slice, largest angle first */
 PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
 	pvs__key_index *order;
 	uint32_t i, n = c->nobj, grown = 0;
@@ -14625,7 +14601,7 @@ PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
 	PVS__FREE_N(c->al, order, (size_t)n + 1);
 }
 
-/* Growth's virtual occluder: rounded as stored, checked, kept. */
+/* Growth's virtual occluder: rounded as stored, checked, kept */
 PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 	pvs__vo_cand cand;
 	PVS__ZERO(cand);
@@ -14668,8 +14644,8 @@ typedef struct pvs__vo_rt {
 } pvs__vo_rt;
 
 /* Occluder a-b's test (world ground, heights base..top) for cell. 2D: box in umbra (§3) if past line and, per cell
-   corner c, on b's side of line c-a and a's of c-b; support functions test box. Margins (1e-7 of frame extent) make
-   rounding answer "not hidden". */
+   corner c, on b's side of line c-a and a's of c-b; support functions test box. Margins (1e-7 of frame extent):
+   rounding answers "not hidden" */
 PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b,
 		double base, double top) {
 	double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
@@ -14737,7 +14713,7 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
 	r->ok = 1;
 }
 
-/* 1 if every sight line from cell box to box b crosses occluder. */
+/* 1 if every sight line from cell box to box b crosses occluder */
 PVS__STATIC int pvs__vo_rt_hides(const pvs__vo_rt *r, const pvs_box *b) {
 	double x0 = (double)b->min[r->u_axis] - r->o[0], x1 = (double)b->max[r->u_axis] - r->o[0];
 	double y0 = (double)b->min[r->v_axis] - r->o[1], y1 = (double)b->max[r->v_axis] - r->o[1];
@@ -14772,7 +14748,7 @@ PVS__STATIC int pvs__vo_box_ok(const pvs_box *b) {
 	return 1;
 }
 
-/* r from caller's occluder; 0 (unusable) if ends not finite. */
+/* r from caller's occluder; 0 (unusable) if ends not finite */
 PVS__STATIC int pvs__vo_rt_user(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const pvs_virtual_occluder *o) {
 	double a[2], b[2];
 	a[0] = o->p0[0]; a[1] = o->p0[1];
@@ -14869,7 +14845,7 @@ PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_
 	return PVS_OK;
 }
 
-/* Splits caller scratch into occluder array (front), rest (16-aligned). */
+/* Splits caller scratch into occluder array (front), rest (16-aligned) */
 PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t count, const pvs_kdtree *tree,
 		pvs__vo_rt **rt, uint8_t **rest, size_t *rest_size, pvs_error *err) {
 	size_t need = pvs_vocc_cull_scratch_size(tree, count),
@@ -14917,14 +14893,14 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 #define PVS__VO_HEAD 16u
 #define PVS__VO_BLOCK 16u
 
-/* Size of VOCC section of cells cells, n occluders (0 past 32 bits). */
+/* Size of VOCC section of cells cells, n occluders (0 past 32 bits) */
 PVS__STATIC size_t pvs__vo_section_size(uint32_t cells, uint64_t n) {
 	uint64_t blocks = ((uint64_t)cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK,
 			 size = PVS__VO_HEAD + 4 * (blocks + 1) + 2 * (uint64_t)cells + 5 * n;
 	return size > 0xfffffff0ull ? 0 : (size_t)size;
 }
 
-/* Writes section (pvs__vo_section_size bytes): per-cell counts, scale codes, occluder bytes (stride 0: packed). */
+/* Writes section (pvs__vo_section_size bytes): per-cell counts, scale codes, occluder bytes (stride 0: packed) */
 PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, float hstep, uint32_t cells,
 		const uint8_t *counts, const uint8_t *scales, const uint8_t *bytes,
 		uint32_t stride) {
@@ -14954,7 +14930,7 @@ PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, f
 	}
 }
 
-/* Validates VOCC section of f->cell_count cells (pvs_file_open, after META) into *f; reads only inside it. */
+/* Validates VOCC section of f->cell_count cells (pvs_file_open, after META) into *f; reads only inside */
 PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, const uint8_t *sec, uint32_t size,
 		pvs_error *err) {
 	uint64_t so = (uint64_t)(sec - file);
@@ -14998,7 +14974,7 @@ PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, co
 	return PVS_OK;
 }
 
-/* Cell's stored occluders (count): *bytes 5-byte records, *scale code. */
+/* Cell's stored occluders (count): *bytes 5-byte records, *scale code */
 PVS__STATIC uint32_t pvs__vo_file_cell(const pvs_file *f, uint32_t cell, const uint8_t **bytes, uint32_t *scale) {
 	const uint8_t *sec = f->private_.vocc;
 	uint32_t cells = f->cell_count, blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, b = cell / PVS__VO_BLOCK,
@@ -15011,7 +14987,7 @@ PVS__STATIC uint32_t pvs__vo_file_cell(const pvs_file *f, uint32_t cell, const u
 	return counts[cell];
 }
 
-/* Stored occluder: world ground ends, heights. */
+/* Stored occluder: world ground ends, heights */
 PVS__STATIC void pvs__vo_decode(const pvs_box *cell, uint32_t up, uint32_t scale_code, const uint8_t *q, float base,
 		float hstep, double *a, double *b, double *vbase, double *vtop) {
 	double centre[2], sc = pvs__vo_scale(scale_code);
@@ -15091,7 +15067,7 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 #ifndef PVS_RUNTIME_ONLY /* rest of >>vocc, >>portal, >>methods, >>bake: bake side */
 /* ---- 2.5D per cell (§3.1), selection (Fig. 6): bake side */
 
-/* Shared by bake's cells: prepared facades, quantization, object boxes. */
+/* Shared by bake's cells: prepared facades, quantization, object boxes */
 typedef struct pvs__vbake {
 	pvs_allocator a;
 	pvs__vprep *prep;
@@ -15111,7 +15087,7 @@ PVS__STATIC void pvs__vbake_destroy(pvs__vbake *vb) {
 	pvs__free(&a, vb, sizeof(*vb), 16);
 }
 
-/* Prepared facades (pvs__scene_facades), ground walls of EXTRUSION and BOX occluders; object boxes. */
+/* Prepared facades (pvs__scene_facades), ground walls of EXTRUSION and BOX occluders; object boxes */
 PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator *a, uint32_t slices, uint32_t max_keep,
 		pvs__vbake **out) {
 	pvs__vbake *vb;
@@ -15201,7 +15177,7 @@ done:
 }
 
 /* Slice heights (§3.1): occluder tops over cell at quantiles (i + 0.2) / (n + 0.2) by subtended angle (n = 1: 1/6).
-   Low slices fuse best, high ones hide past low walls. Ascending, distinct, <= n. */
+   Low slices fuse best, high ones hide past low walls. Ascending, distinct, <= n */
 PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *centre, float ctop, uint32_t n, float *h,
 		const pvs_allocator *al) {
 	const pvs__vprep *p = vb->prep;
@@ -15258,7 +15234,7 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
 }
 
 /* One cell's dense set (Koltun 2000 §3, §3.1) in c->out: its slices' virtual occluders, file frame. c untouched if
-   none possible (below base, no area, no occluder). Caller frees c. */
+   none possible (below base, no area, no occluder); caller frees c */
 PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *cell, const double centre[2],
 		double reach, uint32_t code, pvs__vctx *c) {
 	const pvs_allocator *al = &vb->a;
@@ -15286,14 +15262,14 @@ PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *ce
 	return c->oom ? PVS_ERROR_OUT_OF_MEMORY : PVS_OK;
 }
 
-/* pvs__vo_select scratch; pvs__vo_bake_cell frees it. */
+/* pvs__vo_select scratch; pvs__vo_bake_cell frees it */
 typedef struct pvs__vo_selwork {
 	pvs__vo_rt *rt, *sel; /* c->nout: dense tests; max_keep + 1: kept */
 	pvs_word *hid, *covered; /* c->nout x words: what each hides; words: hidden so far */
 } pvs__vo_selwork;
 
-/* Greedy selection (Koltun 2000, Fig. 6) from c->out: occluder hiding most unhidden objects, till max_keep kept or best
-   gain < min_gain; 5 bytes each into bytes, tests into sw->sel; count. *r = OUT_OF_MEMORY: no scratch. */
+/* Greedy selection (Koltun 2000, Fig. 6) from c->out: occluder hiding most unhidden objects, until max_keep kept or
+   best gain < min_gain; 5 bytes each into bytes, tests into sw->sel; count. *r = OUT_OF_MEMORY: no scratch */
 PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c,
 		uint32_t words, uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
 	const pvs_allocator *al = &vb->a;
@@ -15339,7 +15315,7 @@ PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, u
 }
 
 /* One bake cell: dense set, selection (Fig. 6), PVS rebuilt as pvs_vocc_cull will: *count (<= max_keep) 5-byte
-   occluders, scale code, PVS (cleared first). */
+   occluders, scale code, PVS (cleared first) */
 PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *cell, uint8_t *bytes, uint8_t *count,
 		uint8_t *scale, pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
 	const pvs_allocator *al = &vb->a;
@@ -15455,7 +15431,7 @@ typedef struct pvs__vocc_bake {
 	pvs_vocc_stats *stats; /* per task */
 } pvs__vocc_bake;
 
-/* Per-task arrays (pvs__buf), listed once for prepare and destroy. */
+/* Per-task arrays (pvs__buf), listed once for prepare and destroy */
 PVS__STATIC int pvs__vocc_bake_bufs(pvs__vocc_bake *vo, pvs__buf *b) {
 	int k = 0;
 	PVS__BUFT(b, k, vo->bytes, (size_t)vo->task_count * vo->keep * 5);
@@ -15471,7 +15447,7 @@ PVS__STATIC pvs_result pvs__vocc_bake_check(const pvs_bake_desc *desc, pvs_error
 	return PVS_OK;
 }
 
-/* Facades and loops once (pvs__vbake_create), per-task occluder records. */
+/* Facades, loops once (pvs__vbake_create), per-task occluder records */
 PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
 		pvs_error *err) {
 	uint32_t slices = desc->vocc.slices ? desc->vocc.slices : 5,
@@ -15513,7 +15489,7 @@ PVS__STATIC int pvs__vocc_bake_applies(const void *state, const char **why) {
 }
 
 /* Task's whole cell (VOCC bakes no adaptive cells): occluders into task's record, PVS they prove into bits; vocc.only:
-   every drawable object (placeholder records). */
+   all drawable objects (placeholder records) */
 PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
 		const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
 		unsigned *flags, pvs_error *err) {
@@ -15560,7 +15536,7 @@ PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
 	pvs__free(&vo->allocator, vo, sizeof(*vo), 16);
 }
 
-/* Not in AUTO unless named (pvs_bake_desc.methods): for storage, run-time rebuild, not tightness. */
+/* Not in AUTO unless named (pvs_bake_desc.methods): for storage, run-time rebuild, not tightness */
 PVS__STATIC const pvs__bake_method pvs__vocc_method = {
 	PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, 2, pvs__vocc_bake_check,
 	pvs__vocc_bake_prepare, pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy,
@@ -15578,11 +15554,11 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 /* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids: connected closed
    convex meshes of scene triangles (joined by shared or split vertices: pvs__po_solids; each directed edge matched by
    its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles), not explicit occluder volumes
-   (rays pass them) nor one around all else (a sky box). BSP on their face planes (q3map2's BuildTree) ends in leaves
-   in solid or outside all: empty ones are rooms. Planes closer than input's float resolution are one
-   (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size). Portal: empty leaf's face with empty leaf beyond, pushed down
-   tree, split by planes it straddles (Teller 1992 §3.3), both ways (pvs__po_mirror). Segment between rooms missing all
-   solids crosses portals of leaves it passes, in order. Other triangles block nothing here.
+   (rays pass them) nor one around all else (sky box). BSP on their face planes (q3map2's BuildTree) has leaves in solid
+   or outside all: empty ones: rooms. Planes closer than input's float resolution are one (PVS__PO_NORMAL_EPS,
+   PVS__PO_DIST_EPS x scene size). Portal: empty leaf's face with empty leaf beyond, pushed down tree, split by
+   straddled planes (Teller 1992 §3.3), both ways (pvs__po_mirror). Segment between rooms missing all solids crosses
+   portals of leaves it passes, in order. Other triangles block nothing here.
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): segment from x in view cell C through portals P1
    .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: lines' source is C_j, C clipped to that
@@ -15590,8 +15566,8 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
    of P(j-1) and Pj. Each step P -> Q (or start leaf's portal Q) keeps hull R of regions so found on Q; region W (Q
    clipped by step's planes into P) outside R grows R to hull(R, W), queues step: monotone fixed point (as q3map2's
    might-see pruning); by induction each crossing point is in its step's R. Objects of leaf entered via Q (or overlapped
-   by C) kept if triangle's part in leaf is behind all step's planes, as visible points are. Past `budget` portal clips:
-   all objects of reachable empty leaves (conservative cut-off). */
+   by C) kept if triangle's part in leaf is behind all step's planes, as visible points are. Past `budget` portal clips
+   (conservative cut-off): all objects of reachable empty leaves */
 
 #define PVS__PO_MAXW 64u /* clipped winding vertices */
 #define PVS__PO_MAXS 64u /* separating planes per region */
@@ -15612,7 +15588,7 @@ typedef struct pvs__po_wind {
 	double p[PVS__PO_MAXW][3];
 } pvs__po_wind;
 
-/* Convex polytope: faces on plane-table planes (outward), windings back to back. */
+/* Convex polytope: faces on plane-table planes (outward), windings back to back */
 typedef struct pvs__po_poly {
 	uint32_t face_count, vert_count;
 	uint32_t *plane; /* face_count */
@@ -15680,18 +15656,18 @@ PVS__STATIC int pvs__po_plane_match(const double *a, const double n[3], double d
 		   fabs(a[2] - n[2]) < PVS__PO_NORMAL_EPS && fabs(a[3] - d) < de;
 }
 
-/* Bucket of key: plane |d| in thousandths of scene size (rounded down). */
+/* Bucket of key: plane |d| in thousandths of scene size (rounded down) */
 PVS__STATIC uint32_t pvs__po_hash(const pvs__poprep *p, double key) {
 	uint64_t u = (uint64_t)(key < 1e18 ? key : 1e18);
 	return (uint32_t)((u * 0x9E3779B97F4A7C15ull) >> 40) & (p->hash_size - 1);
 }
 
-/* Dominant axis of n (first if tied). */
+/* Dominant axis of n (first if tied) */
 PVS__STATIC int pvs__po_axis(const double *n) {
 	return fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
 }
 
-/* Table id of plane n.x = d (n unit): existing one within epsilons, or new pair; PVS__PO_NONE: OOM. */
+/* Table id of plane n.x = d (n unit): existing one within epsilons, or new pair; PVS__PO_NONE: OOM */
 PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) {
 	double de = PVS__PO_DIST_EPS * p->ext, nn[3];
 	double q = fabs(d) / (1e-3 * p->ext);
@@ -15732,7 +15708,7 @@ PVS__STATIC double pvs__po_dist(const double *pl, const double *x) {
 	return pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2] - pl[3];
 }
 
-/* Square of half-size big on plane pl, centred on its point nearest origin. */
+/* Square of half-size big on plane pl, centred on its point nearest origin */
 PVS__STATIC void pvs__po_base(const double *pl, double big, pvs__po_wind *w) {
 	int a = fabs(pl[2]) >= fabs(pl[0]) && fabs(pl[2]) >= fabs(pl[1]) ? 2 : (fabs(pl[1]) >= fabs(pl[0]) ? 1 : 0);
 	double up[3] = {0, 0, 0}, right[3], o[3], dot, len;
@@ -15755,15 +15731,15 @@ PVS__STATIC void pvs__po_base(const double *pl, double big, pvs__po_wind *w) {
 	}
 }
 
-/* Appends x as vertex *n of w; 1 if w full (x lost). */
+/* Appends x as vertex *n of w; 1: w full (x lost) */
 PVS__STATIC int pvs__po_put(pvs__po_wind *w, uint32_t *n, const double *x) {
 	if (*n == PVS__PO_MAXW) return 1;
 	memcpy(w->p[(*n)++], x, sizeof(w->p[0]));
 	return 0;
 }
 
-/* Splits w by pl: dist <= eps to *back, >= -eps to *front (either NULL ok), edges cut between dist > eps and < cut;
-   1 if vertices lost (> PVS__PO_MAXW); -1, back unwritten, if no front and w wholly behind. */
+/* Splits w by pl: dist <= eps to *back, >= -eps to *front (either NULL ok), edges cut between dist > eps and < cut; 1:
+   vertices lost (> PVS__PO_MAXW); -1 (back unwritten): no front, w wholly behind */
 PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, double cut, pvs__po_wind *front,
 		pvs__po_wind *back) {
 	double dist[PVS__PO_MAXW];
@@ -15790,8 +15766,8 @@ PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double ep
 }
 
 /* w clipped to behind pl: vertices within eps kept, edges cut where they cross between one past eps and one behind
-   `cut`: -eps as q3map2's ClipWinding (BSP build), 0 in the flow (-eps lost what lies behind a polygon nearly in pl);
-   1 if vertices lost. */
+   `cut`: -eps as q3map2's ClipWinding (BSP build), 0 in flow (-eps lost what lies behind polygon nearly in pl);
+   1: vertices lost */
 PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps, double cut) {
 	pvs__po_wind t;
 	int lost = pvs__po_split(w, pl, eps, cut, NULL, &t);
@@ -15802,13 +15778,13 @@ PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps, doub
 }
 
 /* pvs__po_clip's answer for polygon in box b (centre, half sizes) clear of pl by 2 eps (past rounding): 0 beyond
-   (empties it), 1 behind (leaves it); -1: clip. */
+   (empties it), 1 behind (keeps it); -1: clip */
 PVS__STATIC int pvs__po_box_clip(const double *b, const double *pl, double eps) {
 	double t = pvs__po_dist(pl, b), e = fabs(pl[0]) * b[3] + fabs(pl[1]) * b[4] + fabs(pl[2]) * b[5] + 2.0 * eps;
 	return t > e ? 0 : t < -e ? 1 : -1;
 }
 
-/* Base square of table plane id clipped by planes[0..count) (pair `skip` left out); p->lost set if vertices lost. */
+/* Base square of table plane id clipped by planes[0..count) (pair `skip` left out); p->lost set if vertices lost */
 PVS__STATIC void pvs__po_clip_base(pvs__poprep *p, uint32_t id, const uint32_t *planes, uint32_t count, uint32_t skip,
 		pvs__po_wind *w) {
 	uint32_t j;
@@ -15823,7 +15799,7 @@ PVS__STATIC void pvs__po_poly_free(const pvs_allocator *a, pvs__po_poly *q) {
 	PVS__ZERO(*q);
 }
 
-/* Faces (planes, windings) into one block; 0: OOM. */
+/* Faces (planes, windings) into one block; 0: OOM */
 PVS__STATIC int pvs__po_poly_make(const pvs_allocator *a, pvs__po_poly *q, const uint32_t *planes,
 		const pvs__po_wind *w, uint32_t faces) {
 	uint32_t i, verts = 0;
@@ -15845,7 +15821,7 @@ PVS__STATIC int pvs__po_poly_make(const pvs_allocator *a, pvs__po_poly *q, const
 	return 1;
 }
 
-/* Box of q's vertices, rounded outward to floats. */
+/* Box of q's vertices, rounded outward to floats */
 PVS__STATIC pvs_box pvs__po_poly_box(const pvs__po_poly *q) {
 	pvs_box b = pvs__box_empty();
 	uint32_t i, k;
@@ -15863,7 +15839,7 @@ PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w
 }
 
 /* Polytope of planes[0..count) (outward): each face its base square clipped by others (dropped if emptied); < 4 left:
-   empty *q (face_count 0). 0: OOM. */
+   empty *q (face_count 0). 0: OOM */
 PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes, uint32_t count, pvs__po_poly *q,
 		pvs__po_wind *scratch, uint32_t *kept) {
 	uint32_t i, faces = 0;
@@ -15876,8 +15852,8 @@ PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes,
 	return pvs__po_poly_make(&p->allocator, q, kept, scratch, faces);
 }
 
-/* -1, 0, 1: polytope wholly behind, straddling, wholly in front of pl (within eps); 2: on it (degenerate). */
-/* Axis k of plane of normal +-e_k, else -1. */
+/* -1, 0, 1: polytope wholly behind, straddling, wholly in front of pl (within eps); 2: on it (degenerate) */
+/* Axis k of plane of normal +-e_k, else -1 */
 PVS__STATIC int pvs__po_unit_axis(const double *pl) {
 	int j;
 	PVS__FOR3(j)
@@ -15885,7 +15861,7 @@ PVS__STATIC int pvs__po_unit_axis(const double *pl) {
 	return -1;
 }
 
-/* pvs__po_side for normal +-e_axis from q's box b (min, max): same doubles (x -> +-x - d monotone, rounded once). */
+/* pvs__po_side for normal +-e_axis from q's box b (min, max): same doubles (x -> +-x - d monotone, rounded once) */
 PVS__STATIC int pvs__po_side_box(const double *b, const double *pl, int axis, double eps) {
 	double lo = pl[axis] > 0.0 ? b[axis] - pl[3] : -b[axis + 3] - pl[3];
 	double hi = pl[axis] > 0.0 ? b[axis + 3] - pl[3] : -b[axis] - pl[3];
@@ -15911,8 +15887,8 @@ PVS__STATIC int pvs__po_side(const pvs__po_poly *q, const double *pl, double eps
 	return 2;
 }
 
-/* Splits q by table plane id into *front, *back (empty if no part of q there); q untouched. Cap: plane's base square
-   clipped by q's faces. 0: OOM. */
+/* Splits q by table plane id into *front, *back (empty if no part of q there); q kept. Cap: plane's base square clipped
+   by q's faces. 0: OOM */
 PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32_t id, pvs__po_poly *front,
 		pvs__po_poly *back, pvs__po_wind *scratch, uint32_t *planes) {
 	const double *pl = p->pl[id];
@@ -15947,8 +15923,8 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 /* ---- solids */
 
 /* Face planes of tris[0..n) if closed convex mesh (each directed edge and its reverse once; every vertex within tolc
-   behind every triangle plane, or all in front: inside out) not around all other triangles: their count, else 0.
-   edges: 6n scratch; planes: n. */
+   behind every triangle plane, or all in front: inside out) not around all other triangles: count, else 0. edges: 6n
+   scratch; planes: n */
 PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const uint32_t *canon, const uint32_t *tris,
 		uint32_t n, uint32_t (*edges)[2], uint32_t *planes) {
 	uint32_t i, j, k, np = 0;
@@ -15967,7 +15943,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 		}
 	for (k = 0; k < 3 && lo[k] <= s->bounds.min[k] && hi[k] >= s->bounds.max[k]; ++k) {
 	}
-	if (k == 3 && n < s->triangle_count) return 0; /* around all else (a sky box): a shell, not a wall */
+	if (k == 3 && n < s->triangle_count) return 0; /* around all else (a sky box): shell, not wall */
 	PVS_QSORT(edges, 3 * (size_t)n, sizeof(edges[0]), pvs__pair_cmp); /* edges, then reversed */
 	PVS_QSORT(edges + 3 * n, 3 * (size_t)n, sizeof(edges[0]), pvs__pair_cmp);
 	for (i = 0; i + 1 < 3 * n; ++i)
@@ -16016,7 +15992,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 
 /* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle. Triangles join if they share
    vertex, or edge's 2 positions exactly 2 of them use, in opposite directions (mesh exported with split vertices;
-   touching solids use such edge 4 times, stay apart). 0: OOM. */
+   touching solids use such edge 4 times, stay apart). 0: OOM */
 PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
 		pvs__po_wind *scratch, uint32_t *kept) {
 	const pvs_allocator *al = &p->allocator;
@@ -16102,7 +16078,7 @@ typedef struct pvs__po_build {
 	int oom;
 } pvs__po_build;
 
-/* New leaf; takes region (kept if empty). */
+/* New leaf; takes region (kept if empty) */
 PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *region) {
 	pvs__poprep *p = b->p;
 	uint32_t id = (uint32_t)p->leaf_count;
@@ -16126,7 +16102,7 @@ PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *reg
 }
 
 /* Split plane for fragments f[0..n): among unused face planes (axial first, <= PVS__PO_CANDIDATES), best q3map2 score:
-   faces on it - splits - imbalance + axial bonus. PVS__PO_NONE if every face on splitter above (solid leaf). */
+   faces on it - splits - imbalance + axial bonus. PVS__PO_NONE: every face on splitter above (solid leaf) */
 PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint32_t n) {
 	uint32_t cand[PVS__PO_CANDIDATES], nc = 0, pass, i, j, best = PVS__PO_NONE, most = PVS__PO_CANDIDATES;
 	long best_score = 0;
@@ -16177,7 +16153,7 @@ PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint3
 	return best;
 }
 
-/* Subtree of fragments f[0..n) (taken, freed) in region (taken): its node or leaf id. */
+/* Subtree of fragments f[0..n) (taken, freed) in region (taken): its node or leaf id */
 PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint32_t n, pvs__po_poly *region,
 		uint32_t depth) {
 	pvs__poprep *p = b->p;
@@ -16266,7 +16242,7 @@ PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to
 
 /* Face w of leaf `from` on table plane `plane` (outward) pushed down from `node`: portal into every empty leaf a part
    reaches (Teller 1992 §3.3). Straddled planes split it; coplanar node sends it along its normal; within eps of
-   another pair's node plane, both ways. */
+   another pair's node plane: both ways */
 PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t plane, uint32_t node, uint32_t from) {
 	pvs__poprep *p = b->p;
 	while (!(node & PVS__PO_LEAF)) {
@@ -16302,8 +16278,8 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 	if (p->leaf[node].face_count && node != from) pvs__po_add_portal(b, from, node, plane, w);
 }
 
-/* A -> B and B -> A portals of unequal area (pushed past nearly coincident planes, one side may miss the other's leaf):
-   the smaller side gets the larger's reversed (more lines). Returns portals added. */
+/* A -> B and B -> A portals of unequal area (pushed past nearly coincident planes, one side may miss other's leaf):
+   smaller side gets larger's reversed (more lines). Returns portals added */
 PVS__STATIC size_t pvs__po_mirror(pvs__po_build *b) {
 	pvs__poprep *p = b->p;
 	size_t n = p->portal_count, i, j, added = 0;
@@ -16330,7 +16306,7 @@ PVS__STATIC size_t pvs__po_mirror(pvs__po_build *b) {
 	return added;
 }
 
-/* leaf(ctx, l) for every empty leaf l box b meets (within eps), b pushed down from `node`. */
+/* leaf(ctx, l) for every empty leaf l box b meets (within eps), b pushed down from `node` */
 PVS__STATIC void pvs__po_box_down(const pvs__poprep *p, const pvs_box *b, uint32_t node,
 		void (*leaf)(void *ctx, uint32_t l), void *ctx) {
 	while (!(node & PVS__PO_LEAF)) {
@@ -16358,7 +16334,7 @@ typedef struct pvs__po_object {
 	uint32_t o;
 } pvs__po_object;
 
-/* pvs__po_box_down visitor: object o in leaf l (pair appended to p->lo). */
+/* pvs__po_box_down visitor: object o in leaf l (pair appended to p->lo) */
 PVS__STATIC void pvs__po_object_leaf(void *ctx, uint32_t l) {
 	const pvs__po_object *x = (const pvs__po_object *)ctx;
 	pvs__poprep *p = x->b->p;
@@ -16371,7 +16347,7 @@ PVS__STATIC void pvs__po_object_leaf(void *ctx, uint32_t l) {
 	++p->lo_count;
 }
 
-/* Stable sort of count (key, value) pairs into per-key lists: first (keys + 1), values. */
+/* Stable sort of count (key, value) pairs into per-key lists: first (keys + 1), values */
 PVS__STATIC int pvs__po_csr(const pvs_allocator *a, const uint32_t *pairs, size_t count, uint32_t keys,
 		uint32_t **first, uint32_t **values) {
 	size_t i;
@@ -16389,22 +16365,22 @@ PVS__STATIC int pvs__po_csr(const pvs_allocator *a, const uint32_t *pairs, size_
 
 /* ---- portal flow */
 
-/* Portal region seen from cell; planes bounding lines from cell through it (as table: dist <= tol kept). */
+/* Portal region seen from cell; planes bounding lines from cell through it (as table: dist <= tol kept) */
 typedef struct pvs__po_win {
 	uint32_t nv, np;
 	double v[PVS__PO_MAXW][3];
 	double pl[PVS__PO_MAXS][4];
 } pvs__po_win;
 
-/* Step state (start leaf's portal q, or step src -> q): where lines from cell through earlier portals cross q. */
+/* Step state (start leaf's portal q, or step src -> q): where lines from cell through earlier portals cross q */
 typedef struct pvs__po_region {
-	uint32_t q, n, grows, from, state; /* from: portal before q (PVS__PO_NONE: q leaves a start leaf); state: step */
+	uint32_t q, n, grows, from, state; /* from: portal before q (PVS__PO_NONE: q leaves start leaf); state: step */
 	uint32_t key, queued; /* key: q's nearest vertex's squared distance from cell, float bits (queue's order) */
 	uint32_t vo, vcap; /* its n vertices at flow's pv + vo, room for vcap (pool: most regions have few) */
 } pvs__po_region;
 
 /* Convex line source: vertices, edges (index pairs); faces > 0: each edge's 2 faces (ef, 7: unknown), planes in fp
-   (outward, as table planes: cell box's 6, then clipping portal's). */
+   (outward, as table planes: cell box's 6, then clipping portal's) */
 typedef struct pvs__po_set {
 	uint32_t n, ne, faces;
 	double v[PVS__PO_MAXW][3];
@@ -16418,7 +16394,7 @@ typedef struct pvs__po_flow {
 	double c[8][3]; /* cell corners */
 	pvs_word *bits;
 	uint32_t *slot; /* hash of (state, region), PVS__PO_NONE: free (states: ep_first, then start portals) */
-	size_t slot_cap; /* pairs, a power of 2 */
+	size_t slot_cap; /* pairs, power of 2 */
 	pvs__po_region *reg;
 	size_t reg_count, reg_cap;
 	double (*pv)[3]; /* regions' vertices */
@@ -16433,10 +16409,10 @@ typedef struct pvs__po_flow {
 	pvs__po_set box; /* pvs__po_source's set of whole box (n 0: not made) */
 	pvs__po_set *srcs; /* its clipped sets by plane, PVS__PO_SRCS direct-mapped on plane id (NULL: none kept) */
 	uint32_t *src_plane; /* their planes, PVS__PO_NONE: empty */
-	double bc[6]; /* box's centre and half sizes */
+	double bc[6]; /* box's centre, half sizes */
 } pvs__po_flow;
 
-/* Plane pl (n.x <= pl[3] kept) added to w unless found before (within eps in d, 1e-9 in n) or w full (more lines). */
+/* Plane pl (n.x <= pl[3] kept) added to w unless found before (within eps in d, 1e-9 in n) or w full (more lines) */
 PVS__STATIC void pvs__po_add_plane(pvs__po_win *w, const double *pl, double eps) {
 	uint32_t i;
 	for (i = 0; i < w->np; ++i)
@@ -16448,7 +16424,7 @@ PVS__STATIC void pvs__po_add_plane(pvs__po_win *w, const double *pl, double eps)
 
 /* Plane through a, b, c if it separates A (na points, one side within eps) and B (nb, other): added to w keeping B's
    side (Teller 1992 §5.2 separating plane, pvs__po_add_plane); 1 if so. box (centre, half sizes) not NULL: A: its
-   corners, tested at once. */
+   corners, tested at once */
 PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
 		const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps,
 		const double *box) {
@@ -16488,8 +16464,8 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 }
 
 /* Appends to w->pl planes bounding lines from convex set c through region w->v (Teller 1992 §5.2 separating ones):
-   through edge of one and vertex of other, c and w on opposite sides. Set meeting w has none. box: c is whole box
-   (pvs__po_try_plane's). */
+   through edge of one and vertex of other, c and w on opposite sides. Set meeting w has none. box: c: whole box
+   (pvs__po_try_plane's) */
 PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps, double tol,
 		const double *box) {
 	uint32_t i, j;
@@ -16513,7 +16489,7 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 }
 
 /* Adds polygon v (n vertices) to set c: each vertex unless one within eps, each edge once (either way; lost if c full:
-   never here, once-clipped box has <= 7 faces of 5 vertices, portal <= PVS__PO_MAXW). */
+   never here: once-clipped box has <= 7 faces of 5 vertices, portal <= PVS__PO_MAXW) */
 PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const double (*v)[3], uint32_t n, double eps, uint32_t face) {
 	uint32_t i, k, a, b = PVS__PO_MAXW;
 	for (k = 0; n && k <= n; ++k, b = a) {
@@ -16535,7 +16511,7 @@ PVS__STATIC void pvs__po_set_add(pvs__po_set *c, const double (*v)[3], uint32_t 
 	}
 }
 
-/* f's kept clipped sources: made (none if OOM: made anew each time) or freed. */
+/* f's kept clipped sources: made (none if OOM: made anew each time) or freed */
 PVS__STATIC void pvs__po_sources(pvs__po_flow *f, int make) {
 	const pvs_allocator *al = &f->p->allocator;
 	if (make) {
@@ -16550,7 +16526,7 @@ PVS__STATIC void pvs__po_sources(pvs__po_flow *f, int make) {
 }
 
 /* Source of lines crossing portal q from its leaf `from`: cell box clipped to that side of q's plane, in c (kept by
-   plane in f->srcs); box plane leaves whole: f->box, made once. NULL if box wholly on other side. */
+   plane in f->srcs); box plane leaves whole: f->box, made once. NULL: box wholly on other side */
 PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__po_set *c) {
 	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
 										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
@@ -16589,7 +16565,7 @@ PVS__STATIC const pvs__po_set *pvs__po_source(pvs__po_flow *f, uint32_t q, pvs__
 }
 
 /* Pass planes of step P -> Q into w (Teller 1992 §5.2: line crossing Q after P stays behind planes separating them),
-   against all of Q: state's region on Q gives tighter ones in 1/4 of big cell's time (tests/BENCHMARKS.md). */
+   against all of Q: state's region on Q gives tighter ones in 1/4 of big cell's time (tests/BENCHMARKS.md) */
 PVS__STATIC void pvs__po_step_planes(const pvs__poprep *p, uint32_t P, uint32_t Q, pvs__po_win *w) {
 	const pvs__po_portal *a = p->portals + P, *b = p->portals + Q;
 	pvs__po_set set;
@@ -16601,8 +16577,8 @@ PVS__STATIC void pvs__po_step_planes(const pvs__poprep *p, uint32_t P, uint32_t 
 	pvs__po_window_planes(w, &set, 1e-4 * p->tol, p->tol, NULL);
 }
 
-/* 1 if object o has triangle whose part in empty leaf `leaf` clipped by w's planes (w NULL: none) is not empty (within
-   tol; or vertices lost), or no triangle. */
+/* 1 if object o has triangle whose part in empty leaf `leaf` clipped by w's planes (w NULL: none) is non-empty (within
+   tol; or vertices lost), or no triangle */
 PVS__STATIC int pvs__po_meets(const pvs__poprep *p, const pvs_scene *s, uint32_t leaf, uint32_t o,
 		const pvs__po_win *w) {
 	const pvs__po_poly *lp = p->leaf + leaf;
@@ -16623,7 +16599,7 @@ PVS__STATIC int pvs__po_meets(const pvs__poprep *p, const pvs_scene *s, uint32_t
 }
 
 /* Keeps objects of empty leaf `leaf` with part in it not beyond w's planes (w NULL: all): box clipped to leaf's not
-   wholly beyond one, then pvs__po_meets. */
+   wholly beyond one, then pvs__po_meets */
 PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win *w) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j, k;
@@ -16647,7 +16623,7 @@ PVS__STATIC void pvs__po_uv(const double *x, int a, double *u, double *v) {
 	*v = x[a == 2 ? 1 : 2];
 }
 
-/* 1 if all of w inside convex polygon rv (n vertices; tol), both on plane of dominant axis a. */
+/* 1 if all of w inside convex polygon rv (n vertices; tol), both on plane of dominant axis a */
 PVS__STATIC int pvs__po_inside(const double (*rv)[3], uint32_t n, const pvs__po_wind *w, int a, double tol) {
 	double orient = 0.0;
 	uint32_t i, j;
@@ -16672,7 +16648,7 @@ PVS__STATIC int pvs__po_inside(const double (*rv)[3], uint32_t n, const pvs__po_
 	return 1;
 }
 
-/* out = hull of rv (rn vertices) and w in plane 2D coordinates (pvs__hull2): vertex count, 0 if > PVS__PO_MAXW. */
+/* out = hull of rv (rn vertices) and w in plane 2D coordinates (pvs__hull2): vertex count, 0: > PVS__PO_MAXW */
 PVS__STATIC uint32_t pvs__po_hull(const double (*rv)[3], uint32_t rn, const pvs__po_wind *w, int a, pvs__po_wind *out) {
 	double all[2 * PVS__PO_MAXW][3], uv[4 * PVS__PO_MAXW];
 	pvs__key_index keys[2 * PVS__PO_MAXW];
@@ -16686,7 +16662,7 @@ PVS__STATIC uint32_t pvs__po_hull(const double (*rv)[3], uint32_t rn, const pvs_
 	return out->n = k;
 }
 
-/* pvs__po_box_down visitor: cell box meets leaf l (appended to f->leaves once, f->start = 1). */
+/* pvs__po_box_down visitor: cell box meets leaf l (appended to f->leaves once, f->start = 1) */
 PVS__STATIC void pvs__po_start_leaf(void *ctx, uint32_t l) {
 	pvs__po_flow *f = (pvs__po_flow *)ctx;
 	if (f->start[l]) return;
@@ -16694,7 +16670,7 @@ PVS__STATIC void pvs__po_start_leaf(void *ctx, uint32_t l) {
 	f->leaves[f->leaf_count++] = l;
 }
 
-/* Region r's vertices become w's (pool grown as needed: OOM sets f->oom). */
+/* Region r's vertices become w's (pool grown as needed: OOM sets f->oom) */
 PVS__STATIC void pvs__po_set_region(pvs__po_flow *f, pvs__po_region *r, const pvs__po_wind *w) {
 	if (w->n > r->vcap) {
 		if (!pvs__grow(&f->p->allocator, (void **)&f->pv, &f->pv_cap, f->pv_count + w->n + 4, sizeof(f->pv[0]))) {
@@ -16708,8 +16684,8 @@ PVS__STATIC void pvs__po_set_region(pvs__po_flow *f, pvs__po_region *r, const pv
 	memcpy(f->pv[r->vo], w->p, w->n * sizeof(w->p[0]));
 }
 
-/* Region id's polygon grown to hold w (on its portal): 1 if it grew. Past PVS__PO_GROWS growths or PVS__PO_MAXW hull
-   vertices: whole portal (grows no more). */
+/* Region id's polygon grown to hold w (on its portal): 1: it grew. Past PVS__PO_GROWS growths or PVS__PO_MAXW hull
+   vertices: whole portal (grows no more) */
 PVS__STATIC int pvs__po_grow(pvs__po_flow *f, uint32_t id, const pvs__po_wind *w) {
 	const pvs__poprep *p = f->p;
 	pvs__po_region *r = f->reg + id;
@@ -16728,7 +16704,7 @@ PVS__STATIC int pvs__po_grow(pvs__po_flow *f, uint32_t id, const pvs__po_wind *w
 
 /* Queue key of step into q: min squared distance of q's vertices from cell box, as float bits (>= 0: order kept). Never
    falls along line from cell: nearest first runs most steps after those feeding them (fewer growths; fixed point same
-   up to PVS__PO_GROWS). */
+   up to PVS__PO_GROWS) */
 PVS__STATIC uint32_t pvs__po_key(const pvs__po_flow *f, uint32_t q) {
 	const pvs__po_portal *pt = f->p->portals + q;
 	double best = DBL_MAX;
@@ -16748,14 +16724,14 @@ PVS__STATIC uint32_t pvs__po_key(const pvs__po_flow *f, uint32_t q) {
 	return u;
 }
 
-/* Slot of state in f's hash: its pair, or free pair for it. */
+/* Slot of state in f's hash: its pair, or free pair for it */
 PVS__STATIC uint32_t *pvs__po_slot(const pvs__po_flow *f, uint32_t state) {
 	size_t h = (size_t)((state * 0x9E3779B97F4A7C15ull) >> 32) & (f->slot_cap - 1);
 	while (f->slot[2 * h] != PVS__PO_NONE && f->slot[2 * h] != state) h = (h + 1) & (f->slot_cap - 1);
 	return f->slot + 2 * h;
 }
 
-/* New region for state; PVS__PO_NONE: OOM (table grows at half load). */
+/* New region for state; PVS__PO_NONE: OOM (table grows at half load) */
 PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 	const pvs_allocator *al = &f->p->allocator;
 	uint32_t *e;
@@ -16781,7 +16757,7 @@ PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 	return (uint32_t)f->reg_count++;
 }
 
-/* Queues region id (not queued) by its key; OOM sets f->oom. */
+/* Queues region id (not queued) by key; OOM sets f->oom */
 PVS__STATIC void pvs__po_enqueue(pvs__po_flow *f, uint32_t id) {
 	uint64_t x = (uint64_t)f->reg[id].key << 32 | id;
 	size_t c = f->heap_count;
@@ -16794,7 +16770,7 @@ PVS__STATIC void pvs__po_enqueue(pvs__po_flow *f, uint32_t id) {
 	f->heap[c] = x;
 }
 
-/* Queue's nearest region (heap not empty), dequeued. */
+/* Queue's nearest region (heap not empty), dequeued */
 PVS__STATIC uint32_t pvs__po_dequeue(pvs__po_flow *f) {
 	uint64_t *h = f->heap, x = h[--f->heap_count];
 	uint32_t id = (uint32_t)h[0];
@@ -16809,7 +16785,7 @@ PVS__STATIC uint32_t pvs__po_dequeue(pvs__po_flow *f) {
 	return id;
 }
 
-/* Offers `state` (step into portal q) lines crossing q within w: queued if new or grown to hold them. */
+/* Offers `state` (step into portal q) lines crossing q within w: queued if new or grown to hold them */
 PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t from, uint32_t q, const pvs__po_wind *w) {
 	pvs__po_region *r;
 	uint32_t id = pvs__po_slot(f, state)[1];
@@ -16833,7 +16809,7 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t from, u
 }
 
 /* Flow from start leaves (Teller 1992 §5, fixed point: module comment): state (step into q, region v on q) sends lines
-   from q's source via v into leaf `to`: keeps its objects, offers portals out (clipped) as q -> next. */
+   from q's source via v into leaf `to`: keeps its objects, offers portals out (clipped) as q -> next */
 PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j, c;
@@ -16898,7 +16874,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	}
 }
 
-/* Cut-off: objects of every empty leaf reachable from start leaves via any portals. */
+/* Cut-off: objects of every empty leaf reachable from start leaves via any portals */
 PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j;
@@ -16914,7 +16890,7 @@ PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
 	}
 }
 
-/* Every step's pass planes, kept (none past PVS__PO_STEPS or OOM: made per state, same). */
+/* Every step's pass planes, kept (none past PVS__PO_STEPS or OOM: made per state, same) */
 PVS__STATIC void pvs__po_pass_planes(pvs__poprep *p) {
 	size_t n = 0, steps = p->ep_first[p->portal_count], k;
 	uint32_t i, j;
@@ -16973,7 +16949,7 @@ PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 	pvs__free(a, p, sizeof(*p), 16);
 }
 
-/* Solid boxes (rounded outward), per solid drawable objects meeting its box (object BVH). 0: OOM. */
+/* Solid boxes (rounded outward), per solid drawable objects meeting its box (object BVH). 0: OOM */
 PVS__STATIC int pvs__po_solid_objects(pvs__poprep *p, const pvs_scene *s, const pvs__po_poly *frags) {
 	const pvs_allocator *al = &p->allocator;
 	uint32_t i, o, *pairs = NULL, *stack = NULL, sp;
@@ -17020,7 +16996,7 @@ done:
 	return ok;
 }
 
-/* Solids' tree, portals, each empty leaf's objects. */
+/* Solids' tree, portals, each empty leaf's objects */
 PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env) {
 	const pvs_scene *s = env->scene;
 	const pvs_allocator *al = &p->allocator;
@@ -17103,7 +17079,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 		if (!(s->object_flags[ob.o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + ob.o))
 			pvs__po_box_down(p, s->object_boxes + ob.o, p->root, pvs__po_object_leaf, &ob);
 	ok = !b.oom && pvs__po_csr(al, p->lo_pairs, p->lo_count, (uint32_t)p->leaf_count, &p->lo_first, &p->lo);
-	for (k = 0, i = 0; ok && i < p->leaf_count; ++i) { /* objects of <= 64 triangles with no part in a leaf: never kept
+	for (k = 0, i = 0; ok && i < p->leaf_count; ++i) { /* objects of <= 64 triangles with no part in leaf: never kept
 															there, dropped (bigger kept: bounded set-up) */
 		uint32_t e = p->lo_first[i + 1], j = p->lo_first[i];
 		for (p->lo_first[i] = k; j < e; ++j)
@@ -17207,7 +17183,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 }
 
 /* AUTO's PORTAL price: class 0, +1 per PVS_AUTO_SAMPLE_CELLS / 4 of sample cells whose centre sees sky (ray up meets
-   nothing): outdoors lines pass over every wall, flow with them. */
+   nothing): outdoors, lines pass over every wall, flow with them */
 PVS__STATIC int pvs__portal_price(const pvs_bake_desc *desc, const void *state) {
 	uint32_t s, S = PVS_AUTO_SAMPLE_CELLS, k, up = pvs_scene_up_axis(desc->scene);
 	int price = 0;
@@ -17432,16 +17408,16 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
 /* Double math on float inputs. Plane's frame: point -> (u, v, w), w: Depth past cell's face (§2.3; cell: w in
    [-extent, 0]). P's view from cell corner V on plane w = W: V + (P - V) (W - Vw) / (Pw - Vw), Pw > Vw (occluders
    clipped to w >= small margin; occludees wholly at w > 0). Convex occluder's Projection: 8 corner views intersected
-   (§3.2), pixel kept if worst corner passes each edge by margin above all rounding; Depth: max w, rounded up (§2.3).
-   Occludee box's: views' bounding rectangle (§3.1), widened likewise; Depth: min w, rounded down. Hidden if every
-   pixel there holds occluder strictly nearer (§2.2; off-plane pixels visible).
+   (§3.2), pixel kept if worst corner passes each edge by margin over all rounding; Depth: max w, rounded up (§2.3).
+   Occludee box's: views' bounding rectangle (§3.1), widened likewise; Depth: min w, rounded down. Hidden if all pixels
+   there hold occluder strictly nearer (§2.2; off-plane pixels visible).
 
    Bake (§6.1): occluders prepared per bake; per cell and direction, largest by solid angle go on PVS__EP_PLANES depth
    maps and, with sweep, extproj.sweep masks to scene's far end (§5); then object kD-tree front to back, hidden nodes
    skipped. Objects meeting cell visible.
 
    Limits: occluders fuse only via maps and slices; Depths flat per part; umbrae shrink by cell size over distance:
-   sparse small occluders (foliage) loose; sub-cells (extproj.sweep_subcells) recover some (tests/BENCHMARKS.md). */
+   sparse small occluders (foliage) loose; sub-cells (extproj.sweep_subcells) recover some (tests/BENCHMARKS.md) */
 
 #define PVS__EP_MAXP 16 /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -17462,7 +17438,7 @@ typedef struct pvs__epframe {
 	unsigned char bits; /* bits Projection sets in sweep mask: 1 or sub-cell's */
 } pvs__epframe;
 
-/* Plane's frame, sides <= max_side pixels (public API: 4096); 0 if plane bad. */
+/* Plane's frame, sides <= max_side pixels (public API: 4096); 0: plane bad */
 PVS__STATIC int pvs__ep_frame_max(const pvs_extproj_plane *pl, uint32_t max_side, pvs__epframe *f) {
 	int k;
 	if (!pl || pl->axis > 2 || (pl->side != 1 && pl->side != -1) || !pvs__box_valid(&pl->cell)) return 0;
@@ -17493,7 +17469,7 @@ PVS__STATIC int pvs__ep_frame_max(const pvs_extproj_plane *pl, uint32_t max_side
 
 PVS__STATIC int pvs__ep_frame(const pvs_extproj_plane *pl, pvs__epframe *f) { return pvs__ep_frame_max(pl, 4096u, f); }
 
-/* n . (x - a) in double: x's distance from plane through a, times |n|. */
+/* n . (x - a) in double: x's distance from plane through a, times |n| */
 PVS__STATIC double pvs__ep_plane_dist(const double *n, const float *x, const float *a) {
 	return n[0] * ((double)x[0] - a[0]) + n[1] * ((double)x[1] - a[1]) + n[2] * ((double)x[2] - a[2]);
 }
@@ -17503,7 +17479,7 @@ PVS__STATIC int pvs__ep_pt2_cmp(const void *x, const void *y) {
 	if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
 	return a[1] < b[1] ? -1 : a[1] > b[1];
 }
-/* Andrew's monotone chain hull, CCW, no collinear points; sorts pts (n x 2); hull: n + 1 room. Returns size */
+/* Andrew's monotone chain hull, CCW, no collinear points; sorts pts (n x 2); hull: n + 1 room; size */
 PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
 	int i, k = 0, lower;
 	if (n > 1) PVS_QSORT(pts, (size_t)n, sizeof(pts[0]), pvs__ep_pt2_cmp); /* equal points: equal values */
@@ -17520,7 +17496,7 @@ PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
 	return k - 1; /* last point repeats first */
 }
 
-/* ceil/floor via int, for |x| < 2^31 (callers clamp to raster first). */
+/* ceil/floor via int, for |x| < 2^31 (callers clamp to raster first) */
 PVS__STATIC double pvs__ceil_small(double x) {
 	double t = (double)(int32_t)x;
 	return t < x ? t + 1.0 : t;
@@ -17530,8 +17506,8 @@ PVS__STATIC double pvs__floor_small(double x) {
 	return t > x ? t - 1.0 : t;
 }
 
-/* Projection edges (pixels): a x + b y + c >= 0 inside, |a| + |b| = 1, error bound e, inv = 1 / a (0 if ~horizontal);
-   [xlo, xhi] x [ylo, yhi]: views' common box. */
+/* Projection edges (pixels): a x + b y + c >= 0 inside, |a| + |b| = 1, error bound e, inv = 1 / a (0: ~horizontal);
+   [xlo, xhi] x [ylo, yhi]: views' common box */
 typedef struct pvs__epedges {
 	double a[8 * PVS__EP_CLIPN], b[8 * PVS__EP_CLIPN], c[8 * PVS__EP_CLIPN], e[8 * PVS__EP_CLIPN],
 		inv[8 * PVS__EP_CLIPN];
@@ -17539,7 +17515,7 @@ typedef struct pvs__epedges {
 	double xlo, xhi, ylo, yhi;
 } pvs__epedges;
 
-/* Vertices of convex occluder's part in slab [wlo, whi] into P: points inside, point-pair crossings. Returns n. */
+/* Vertices of convex occluder's part in slab [wlo, whi] into P: points inside, point-pair crossings. Returns n */
 PVS__STATIC int pvs__ep_clip_slab(const double (*src)[3], int count, double wlo, double whi, double (*P)[3]) {
 	int n = 0, i, j;
 	for (i = 0; i < count; ++i)
@@ -17567,7 +17543,7 @@ PVS__STATIC int pvs__ep_clip_slab(const double (*src)[3], int count, double wlo,
 }
 
 /* Projection of convex point set P (shape error `slack`): 8 corner views intersected (§3.2), edges with error bounds
-   into E. 0 if surely no whole pixel covered. */
+   into E. 0: surely no whole pixel covered */
 PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int n, double slack, pvs__epedges *E) {
 	pvs__epframe f = *fp;
 	double pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2], base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv;
@@ -17623,8 +17599,8 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 	return 1;
 }
 
-/* Drops edges all candidate pixels pass by more than row loop's margins (most of 8 views'); kept ones get that margin,
-   less its row part, and 1 / a. */
+/* Drops edges all candidate pixels pass by more than row loop's margins (most of 8 views'); kept ones get that margin
+   less its row part, and 1 / a */
 PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
 	int e, m = 0;
 	double x0 = i0, x1 = (double)i1 + 1.0, y0 = j0, y1 = (double)j1 + 1.0;
@@ -17645,7 +17621,7 @@ PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, in
 	E->n = m;
 }
 
-/* Pixels x0..x1 of row j: `depth` to map (where nearer), f->bits to mask (either may be NULL); count. */
+/* Pixels x0..x1 of row j: `depth` to map (where nearer), f->bits to mask (either may be NULL); count */
 PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, int32_t x1, float depth, float *map,
 		unsigned char *mask) {
 	size_t row = (size_t)j * f->width;
@@ -17659,7 +17635,7 @@ PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, 
 }
 
 /* Rasterizes Projection E, rows j0..j1, columns i0..i1, as pvs__ep_span: pixels whose worst corner passes each edge by
-   its margin; count. Not pvs__raster_poly: flat-Depth spans faster; edges carry error bounds. */
+   margin; count. Not pvs__raster_poly: flat-Depth spans faster, edges carry error bounds */
 PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0,
 		int32_t j1, float depth, float *map, unsigned char *mask) {
 	int32_t row;
@@ -17710,7 +17686,7 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
 	return pvs__ep_fill_rows(fp, &E, i0, i1, j0, j1, pvs__f_up(dmax + 1e-12 * dmax), map, mask);
 }
 
-/* 0 if occluder's part in slab [wlo, whi] surely covers no pixel: its box's Projection (superset) holds none. */
+/* 0 if occluder's part in slab [wlo, whi] surely covers no pixel: its box's Projection (superset) holds none */
 PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3], int count, double wlo, double whi) {
 	double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
 	int i, k;
@@ -17748,7 +17724,7 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
 }
 
 /* pvs_extproj_occluder, prepared frame, finite points; solid, slack as in pvs__epocc. Depths to map (min), f->bits to
-   mask, either may be NULL; front_only: only part before plane. */
+   mask, either may be NULL; front_only: only part before plane */
 PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count,
 		int solid, double slack, int front_only, float *map, unsigned char *mask) {
 	pvs__epframe f = *fp;
@@ -17766,8 +17742,8 @@ PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cel
 		for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
 		if (pvs__box_overlap(&b, cell)) return 0;
 	}
-	/* clipped to w >= small margin, split at plane: cell points seeing pixel through one side's part form convex set,
-	   so corners decide; not across plane */
+	/* clipped to w >= small margin, split at plane: cell points seeing pixel through one side's part form convex set:
+	   corners decide; not across plane */
 	margin = 1e-4 * (f.W - f.cw[0]);
 	written = 0;
 	if (pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, margin, f.W))
@@ -17799,7 +17775,7 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
 	return pvs__ep_occluder(&f, &pl->cell, points, count, solid, 0.0, 0, map, NULL);
 }
 
-/* Pixel bounds of box's (k, w) views from cell's (k, w) corners; t[c][b] = (W - cw[c]) / (bw[b] - cw[c]). */
+/* Pixel bounds of box's (k, w) views from cell's (k, w) corners; t[c][b] = (W - cw[c]) / (bw[b] - cw[c]) */
 PVS__STATIC void pvs__ep_occludee_axis(const double *cell_k, double bk0, double bk1, const double t[2][2], double k0,
 		double sk, uint32_t size, int32_t *lo, int32_t *hi) {
 	double mn = DBL_MAX, mx = -DBL_MAX, mag = 0.0, err;
@@ -17818,7 +17794,7 @@ PVS__STATIC void pvs__ep_occludee_axis(const double *cell_k, double bk0, double 
 	*hi = pvs__clampi(floor(mx + err), -1, (int32_t)size);
 }
 
-/* pvs_extproj_occludee, prepared frame, valid box. */
+/* pvs_extproj_occludee, prepared frame, valid box */
 PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int32_t rect[4], float *depth) {
 	double bw[2], t[2][2];
 	int c, b;
@@ -17836,9 +17812,9 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
 }
 
 /* Durand 2000 §4's improved occludee Projection on axis k, box between cell and plane (depths w0..w1 <= W). Cones
-   reach cell's near face (w = 0): inside cone(P, cell), so Property 2 holds: 3D Projection = product of 2D ones. [L(X),
+   reach cell's near face (w = 0): inside cone(P, cell): Property 2 holds: 3D Projection = product of 2D ones. [L(X),
    R(X)]: X's views from face; I = [a, b] works iff a <= min R and b >= max L (over box corners): if max L <= min R one
-   point serves (*any = 1: one column must be hidden), else [min R, max L] (*any = 0: all). Indices may leave map. */
+   point serves (*any = 1: one column must be hidden), else [min R, max L] (*any = 0: all). Indices may leave map */
 PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W,
 		double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
 	double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
@@ -17886,7 +17862,7 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
 
 /* ---- bake method: occluders per bake, planes per cell */
 
-/* Convex occluder: convex polygon (triangle or merged triangles) or closed convex solid. */
+/* Convex occluder: convex polygon (triangle or merged triangles) or closed convex solid */
 typedef struct pvs__epocc {
 	pvs_box box;
 	uint32_t first, count; /* points */
@@ -17903,13 +17879,13 @@ typedef struct pvs__epocc {
 	float pn[3], pd; /*   its plane pn . x = pd, pn unit */
 } pvs__epocc;
 
-/* 0 if capped solid (side != 0) cannot serve cell: not strictly on its solid side. */
+/* 0 if capped solid (side != 0) cannot serve cell: not strictly on its solid side */
 PVS__STATIC int pvs__ep_cap_ok(int side, int axis, float value, const pvs_box *cell) {
 	return !(side > 0 && !(cell->min[axis] > value)) && !(side < 0 && !(cell->max[axis] < value));
 }
 
 /* Sheet: coplanar triangles (any objects) in plane x[axis] = value forming one convex polygon, no holes (tiled floor).
-   From cell strictly on one side and over it, space beyond over polygon is solid: segments there cross it. */
+   From cell strictly on one side and over it, space beyond over polygon is solid: segments there cross it */
 #define PVS__EP_MAX_SHEETS 16
 #define PVS__EP_AREA_CLASSES 8
 typedef struct pvs__epsheet {
@@ -17920,7 +17896,7 @@ typedef struct pvs__epsheet {
 } pvs__epsheet;
 
 /* Closed non-convex component sliced by planes (§3.3): one object's connected triangles, all edges of even use, or
-   "capped": odd ones in one plane, all vertices on one side (building with no floor). */
+   "capped": odd ones in a plane, all vertices on one side (building with no floor) */
 typedef struct pvs__epslice {
 	pvs_box box;
 	uint32_t first, count; /* scene triangles prep->stri[first..first + count) */
@@ -17942,7 +17918,7 @@ typedef struct pvs__extproj_prep {
 	size_t stri_count, stri_capacity;
 	float *bedge;
 	size_t bedge_count, bedge_capacity;
-	uint32_t max_slice_segments; /* most triangles + boundary edges of a sliced component */
+	uint32_t max_slice_segments; /* most triangles + boundary edges of sliced component */
 	pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
 	uint32_t sheet_count;
 	/* per size class (area bound < 4^c): kD-tree of boxes, nodes pruned by max area */
@@ -17977,7 +17953,7 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
 	pvs__free(&a, p, sizeof(*p), 16);
 }
 
-/* Adds convex occluder (caller reserves room). */
+/* Adds convex occluder (caller reserves room) */
 PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid, double slack) {
 	pvs__epocc *o = p->occ + p->occ_count++;
 	uint32_t i;
@@ -18024,7 +18000,7 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
 
 PVS__STATIC int pvs__ep_same(const float *a, const float *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
-/* 1 if edge-sharing triangles, coplanar to float precision, form convex quad q[4]; *slack: 4th point to A's plane. */
+/* 1 if edge-sharing triangles, coplanar to float precision, form convex quad q[4]; *slack: 4th point to A's plane */
 PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q, double *slack) {
 	int i, j, k;
 	double n[3], len = pvs__tri_cross(A[0], A[1], A[2], n), scale = 0.0;
@@ -18056,7 +18032,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 	return 0;
 }
 
-/* Edge in sheet's plane, ends ordered. */
+/* Edge in sheet's plane, ends ordered */
 typedef struct pvs__epedge2 {
 	float a[2], b[2];
 	uint32_t tri; /* index in its group, then its component's root */
@@ -18075,7 +18051,7 @@ PVS__STATIC int pvs__ep_edge2_root_cmp(const void *x, const void *y) {
 	return pvs__ep_edge2_cmp(x, y);
 }
 
-/* 1 if (x, y) inside convex CCW polygon q by margin. */
+/* 1 if (x, y) inside convex CCW polygon q by margin */
 PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y) {
 	uint32_t i;
 	for (i = 0; i < n; ++i) {
@@ -18087,7 +18063,7 @@ PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y
 	return 1;
 }
 
-/* Boundary edge end (pvs__ep_sheet_polygon's walk). */
+/* Boundary edge end (pvs__ep_sheet_polygon's walk) */
 typedef struct pvs__epend {
 	float p[2];
 	uint32_t edge;
@@ -18098,7 +18074,7 @@ PVS__STATIC int pvs__ep_end_cmp(const void *x, const void *y) {
 	return c ? c : a->edge < b->edge ? -1 : a->edge > b->edge;
 }
 
-/* Walks edges e[0..nb) as one loop from e[0].a into q; 0 if point on > 2 edges or 2+ loops. ends: 2 nb */
+/* Walks edges e[0..nb) as one loop from e[0].a into q; 0: point on > 2 edges or 2+ loops. ends: 2 nb */
 PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, pvs__epend *ends) {
 	uint32_t i, m, edge = 0;
 	float cur[2];
@@ -18131,9 +18107,9 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
 }
 
 /* Group's triangles' union as one convex polygon: boundary edges (odd use) in one loop turning once, with triangles'
-   area (no overlap or hole). Fills q (CCW, no collinear points); size or 0. tol > 0: wrong turns under tol (relative)
+   area (no overlap or hole). Fills q (CCW, no collinear points); size, or 0. tol > 0: wrong turns under tol (relative)
    count as straight, q: loop's hull (hp, hh: qcap + 1 scratch; 0 past max_hull points), *dent: deepest loop point in
-   it. ends: 2 qcap. */
+   it. ends: 2 qcap */
 PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep,
 		uint32_t qcap, pvs__epend *ends, double tol, double (*hp)[2],
 		double (*hh)[2], int max_hull, double *dent) {
@@ -18223,7 +18199,7 @@ PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
 }
 
 
-/* Preparation scratch, sized for largest object (pvs__ep_work_alloc). */
+/* Preparation scratch, sized for largest object (pvs__ep_work_alloc) */
 typedef struct pvs__epprepwork {
 	pvs__vx_vkey *ref; /* corners, i = 3 t + k */
 	uint32_t *canon; /* corner -> id among object's distinct positions */
@@ -18246,7 +18222,7 @@ typedef struct pvs__epprepwork {
 	size_t cap; /* triangles */
 } pvs__epprepwork;
 
-/* Preparation scratch's buffers (pvs__buf) for w->cap triangles. */
+/* Preparation scratch's buffers (pvs__buf) for w->cap triangles */
 PVS__STATIC int pvs__ep_work_bufs(pvs__epprepwork *w, pvs__buf *b) {
 	int k = 0;
 	size_t n = w->cap, c = 3 * n, q = 2 * (c + 1);
@@ -18286,7 +18262,7 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
 }
 
 /* 1 if component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each triangle's plane to float precision;
-   *slack: 2x worst violation (hull exceeds surface by no more). */
+   *slack: 2x worst violation (hull exceeds surface by no more) */
 PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
 		uint32_t n, double *slack) {
 	uint32_t t, i, k;
@@ -18313,7 +18289,7 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
 }
 
 /* 1 if all vertices within float precision of largest triangle's plane. Flat closed mesh (two-sided wall) bounds no
-   volume: neither solid (hull would fill windows) nor sliced. */
+   volume: not solid (hull would fill windows) nor sliced */
 PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
 		uint32_t n) {
 	uint32_t t, i, k, best = 0;
@@ -18344,7 +18320,7 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
 }
 
 /* Cap of component whose boundary edges (pairs in bnd) lie exactly in axis plane x_k = c, all vertices on one side:
-   *side = +1 if solid where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance. */
+   *side = +1 if solid where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance */
 PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv,
 		uint32_t nuv, int *axis, float *c, int *side) {
 	int k;
@@ -18367,7 +18343,7 @@ PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, 
 	return 0;
 }
 
-/* 1 if triangle B in A's plane (normal na, length la) to float precision, facing alike. */
+/* 1 if triangle B in A's plane (normal na, length la) to float precision, facing alike */
 PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double la, const float *const *B,
 		double scale) {
 	double nb[3];
@@ -18385,7 +18361,7 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
 #define PVS__EP_CONCAVE_EDGES 256
 
 /* Odd-use edges (sorted keys, smaller canonical id high) of triangles tl[ids[i] & 0xffffffff] (ids NULL: tl[i]), i < n,
-   into out (not ids); count. */
+   into out (not ids); count */
 PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t *tl, const uint64_t *ids, uint32_t n,
 		uint64_t *out) {
 	uint32_t i, k, ne = 0, nb = 0;
@@ -18406,8 +18382,8 @@ PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t 
 }
 
 /* Planar group not one convex polygon -> concave planar occluder (Durand 2000 §3.4, Fig. 7): boundary edges, plane
-   (unit normal nr / lr, vertices within dev); points (vertex hull) for selection only. Past PVS__EP_CONCAVE_EDGES edges
-   stays in pieces. */
+   (unit normal nr / lr, vertices within dev); points (vertex hull) for selection only. Past PVS__EP_CONCAVE_EDGES
+   edges: stays in pieces */
 PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 		pvs__epprepwork *w, uint32_t m, uint32_t cnt, const double *nr, double lr,
 		double dev, double scale) {
@@ -18462,7 +18438,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 }
 
 /* Union-finds into w->gparent (smaller index roots) edge-sharing triangles coplanar to float precision (`scale`: 2x max
-   coordinate) facing alike. Needs 3 n < 2^21 (21-bit packing). */
+   coordinate) facing alike. Needs 3 n < 2^21 (21-bit packing) */
 PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
 		pvs__epprepwork *w, double scale) {
 	uint32_t j, k, ne = 0, g;
@@ -18497,7 +18473,7 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 }
 
 /* Planar group's edges in (u, v) into w->e2 (ends ordered, with triangle); *dev: farthest vertex from plane (nr, lr)
-   through A[0]; *area: (u, v) area. Returns count. */
+   through A[0]; *area: (u, v) area; count */
 PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
 		uint32_t m, uint32_t cnt, const float *const *A, const double *nr, double lr,
 		uint32_t u, uint32_t v, double *dev, double *area) {
@@ -18527,7 +18503,7 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 }
 
 /* Planar group's convex polygon (k corners in w->q2, (u, v) plane of nr's dominant axis ax) as occluder, triangles
-   marked in w->used; none if a corner is no group vertex. */
+   marked in w->used; none if a corner is no group vertex */
 PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 		pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
 		double lr, uint32_t ax, double dev, double dent, double scale) {
@@ -18573,9 +18549,9 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
 	for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
 }
 
-/* Durand 2000 §3.3-3.4: multi-triangle wall must act as one occluder, else each piece loses strip along every shared
-   edge to its penumbra. Edge-connected, coplanar, like-facing triangles forming one convex polygon of <= PVS__EP_MAXP
-   corners: one planar occluder (marked in w->used); other groups: concave ones. */
+/* Durand 2000 §3.3-3.4: multi-triangle wall must act as one occluder, else each piece loses a strip along each shared
+   edge to penumbra. Edge-connected, coplanar, like-facing triangles forming one convex polygon of <= PVS__EP_MAXP
+   corners: one planar occluder (marked in w->used); other groups: concave ones */
 PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 		uint32_t n, pvs__epprepwork *w) {
 	uint32_t j, k, g;
@@ -18625,7 +18601,7 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
 #undef PVS__EP_TRI
 
 /* Components (shared positions) of object triangles into w: canon (corner -> distinct vertex), vpos (its position),
-   parent (root: smaller index, deterministic), order (by component, stable); start[root] ends as component's end. */
+   parent (root: smaller index, deterministic), order (by component, stable); start[root] ends as component's end */
 PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
 	uint32_t i, nv = 0, sum = 0;
 	for (i = 0; i < 3 * tn; ++i) {
@@ -18663,7 +18639,7 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
 	for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__uf_find(w->parent, i)]++] = i;
 }
 
-/* Component `comp`'s boundary (odd-use edges) into w->edges, returns count; its vertices into w->uv[0..*nuv) */
+/* Component `comp`'s boundary (odd-use edges) into w->edges, count; its vertices into w->uv[0..*nuv) */
 PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp,
 		uint32_t *nuv) {
 	uint32_t j, k, nb = pvs__ep_odd_edges(w, tl, NULL, n, w->edges);
@@ -18702,7 +18678,7 @@ PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scen
 	return PVS_OK;
 }
 
-/* Keeps closed or capped component for slicing (§3.3): triangles, box, if capped boundary edges and cap plane. */
+/* Keeps closed or capped component for slicing (§3.3): triangles, box, if capped boundary edges, cap plane */
 PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 		uint32_t n, const pvs__epprepwork *w, const uint32_t *bnd, uint32_t nb,
 		int capped, int cap_axis, int cap_side, float cap_value) {
@@ -18749,7 +18725,7 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 }
 
 /* One component (triangles tl[0..n), root `comp`): closed or capped and convex: solid; else its polygons, kept for
-   slicing if closed or capped. */
+   slicing if closed or capped */
 PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0,
 		const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t tn,
 		pvs__epprepwork *w) {
@@ -18775,7 +18751,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 	}
 	if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && n <= 2 * PVS__EP_MAXP) {
 		/* capped solid serves only cells strictly on its side of cap: ray from there crosses cap's plane once, going
-		   away, so meets hull (cap included) first on real face */
+		   away: meets hull (cap included) first on real face */
 		const float *q[PVS__EP_MAXP];
 		double slack;
 		for (j = 0; j < n; ++j) tris_local[j] = t0 + tl[j];
@@ -18834,7 +18810,7 @@ PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
 	return x->tri < y->tri ? -1 : x->tri > y->tri;
 }
 
-/* First axis triangle t is flat on, or -1. */
+/* First axis triangle t is flat on, or -1 */
 PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
 	const uint32_t *ix = s->indices + 3 * (size_t)t;
 	const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1],
@@ -18845,7 +18821,7 @@ PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
 	return -1;
 }
 
-/* Sheet search scratch: `cap` edges (3 per triangle of one plane). */
+/* Sheet search scratch: `cap` edges (3 per triangle of one plane) */
 typedef struct pvs__epsheetwork {
 	pvs__epedge2 *e; /* cap */
 	float *q; /* 2 (cap + 1): piece's polygon */
@@ -18856,7 +18832,7 @@ typedef struct pvs__epsheetwork {
 	size_t cap;
 } pvs__epsheetwork;
 
-/* Frees w's buffers; alloc: allocates them for w->cap instead (0: OOM, allocations stay in w). */
+/* Frees w's buffers; alloc: allocates them for w->cap instead (0: OOM, allocations stay in w) */
 PVS__STATIC int pvs__ep_sheetwork_bufs(const pvs_allocator *a, pvs__epsheetwork *w, int alloc) {
 	pvs__buf b[6];
 	int k = 0;
@@ -18871,7 +18847,7 @@ PVS__STATIC int pvs__ep_sheetwork_bufs(const pvs_allocator *a, pvs__epsheetwork 
 	return 1;
 }
 
-/* 0: OOM (allocations stay in w). */
+/* 0: OOM (allocations stay in w) */
 PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwork *w, size_t cap) {
 	if (cap <= w->cap) return 1;
 	pvs__ep_sheetwork_bufs(a, w, 0);
@@ -18879,7 +18855,7 @@ PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwo
 	return pvs__ep_sheetwork_bufs(a, w, 1);
 }
 
-/* Keeps sheet polygon q (m vertices, plane x_axis = value) if among PVS__EP_MAX_SHEETS largest. */
+/* Keeps sheet polygon q (m vertices, plane x_axis = value) if among PVS__EP_MAX_SHEETS largest */
 PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float value, const float *q, uint32_t m,
 		double area) {
 	pvs_result r = PVS_OK;
@@ -18965,7 +18941,7 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
 }
 
 /* 1 if convex occluder oc stands on sheet S: *on vertices exactly in its plane inside its polygon, rest on one side
-   (*above), each exactly over one of those or inside their hull; not concave; <= PVS__EP_MAXP points once extended. */
+   (*above), each exactly over one of those or inside their hull; not concave; <= PVS__EP_MAXP points once extended */
 PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *oc, const pvs__epsheet *S, uint32_t *on,
 		int *above) {
 	const float *pts = p->pts + 3 * (size_t)oc->first, *poly = p->spoly + 2 * (size_t)S->first;
@@ -18998,7 +18974,7 @@ PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *
 	return ok;
 }
 
-/* oc's extended point set: its points + its `on` points (in sheet sh's plane) pushed by D away from `above`. */
+/* oc's extended point set: its points + its `on` points (in sheet sh's plane) pushed by D away from `above` */
 PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint32_t sh, uint32_t on, int above,
 		double D) {
 	const pvs__epsheet *S = p->sheet + sh;
@@ -19027,8 +19003,8 @@ PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint
 }
 
 /* Finds largest sheets, extends occluders standing on them through them by scene's size: prism under footprint keeps
-   occluder convex and lies in sheet's solid half-space, so from cell over sheet on its side it blocks nothing new and
-   closes wall-ground seam two Projections leave open. */
+   occluder convex and lies in sheet's solid half-space: from cell over sheet on its side it blocks nothing new and
+   closes wall-ground seam two Projections leave open */
 PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
 	const pvs_allocator *a = &p->allocator;
 	pvs__epskey *key = NULL;
@@ -19086,7 +19062,7 @@ done:
 	return r;
 }
 
-/* Occluder size class: area bound < 4^c (last class open-ended). */
+/* Occluder size class: area bound < 4^c (last class open-ended) */
 PVS__STATIC int pvs__ep_area_class(float area) {
 	int c = 0;
 	float lim = 1.0f;
@@ -19097,7 +19073,7 @@ PVS__STATIC int pvs__ep_area_class(float area) {
 	return c;
 }
 
-/* Occluders of scene's triangles, object by object, tagged with it. */
+/* Occluders of scene's triangles, object by object, tagged with it */
 PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_scene *s, pvs__epprepwork *w) {
 	uint32_t t;
 	for (t = 0; t < s->triangle_count;) {
@@ -19113,7 +19089,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_sc
 	return PVS_OK;
 }
 
-/* Scene volumes: BOX: convex solid, EXTRUSION: wall quads; CONVEX ones left out (conservative). */
+/* Scene volumes: BOX: convex solid, EXTRUSION: wall quads; CONVEX ones left out (conservative) */
 PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *s) {
 	uint32_t o, i;
 	for (o = 0; o < s->occluder_count; ++o) {
@@ -19147,7 +19123,7 @@ PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *
 	}
 }
 
-/* Per size class: occluders, max area, kD-tree of boxes (§6.1's sweeps). */
+/* Per size class: occluders, max area, kD-tree of boxes (§6.1's sweeps) */
 PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err) {
 	const pvs_allocator *a = &p->allocator;
 	pvs_kdtree_desc kd;
@@ -19179,7 +19155,7 @@ PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err)
 	return r;
 }
 
-/* Builds scene's occluder list (§6.1 picks among it per cell). */
+/* Builds scene's occluder list (§6.1 picks among it per cell) */
 PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out,
 		pvs_error *err) {
 	pvs__extproj_prep *p;
@@ -19241,7 +19217,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 
 /* ---- slices of closed meshes (§3.3) */
 
-/* Slicer per-cell scratch: segments (x0, y0, x1, y1 in pixels), crossings, row. */
+/* Slicer per-cell scratch: segments (x0, y0, x1, y1 in pixels), crossings, row */
 typedef struct pvs__epslicer {
 	double *seg;
 	double *xs;
@@ -19251,7 +19227,7 @@ typedef struct pvs__epslicer {
 	uint32_t width; /* row buffer: longest side of map or mask */
 } pvs__epslicer;
 
-/* Edge-end order for pvs__ep_cross fixed by position: both triangles of edge get one crossing; sections close. */
+/* Edge-end order for pvs__ep_cross fixed by position: both triangles of edge get one crossing; sections close */
 PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const float *b, double *x, double *y,
 		double *mag) {
 	const float *p = a, *q = b;
@@ -19275,7 +19251,7 @@ PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
 }
 
 /* Component c's section by w = W: segment (pixels) per crossing triangle into sc->seg from nseg on; vertices on plane
-   count as beyond it; *mag grows to points' size. Returns new count. */
+   count as beyond it; *mag grows to points' size; new count */
 PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
 		const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double *mag) {
 	uint32_t i;
@@ -19307,7 +19283,7 @@ PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj
 }
 
 /* Cap's section by w = W: boundary edges crossing plane give points on one line, paired in order into segments from
-   nseg on. Returns new count, or 0xffffffff if odd (never if closed). */
+   nseg on; new count, or 0xffffffff if odd (never if closed) */
 PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
 		pvs__epslicer *sc, uint32_t nseg, double *mag) {
 	double *pts = sc->xs;
@@ -19342,7 +19318,7 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
 }
 
 /* Fills section's inside: per row parity spans of its centre line (half-open in y), less pixels segment crosses in
-   row's band widened by m, get `depth` (where nearer) in map, f->bits in mask (either may be NULL). */
+   row's band widened by m, get `depth` (where nearer) in map, f->bits in mask (either may be NULL) */
 PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double m,
 		float depth, float *map, unsigned char *mask) {
 	double ylo = DBL_MAX, yhi = -DBL_MAX;
@@ -19401,9 +19377,9 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
 }
 
 /* Section of closed (or capped) component by plane w = W (Durand 2000 §3.3): pixels inside by parity, at margin from
-   every segment, get Depth W. Conservative: cell point V outside solid (cell outside its box), section point X inside,
-   so V-X crosses surface odd # of times, never cap (both strictly on its solid side): hits triangle nearer than W.
-   Vertices on plane count as beyond it (symbolic perturbation): segments agree. */
+   every segment, get Depth W. Conservative: cell point V outside solid (cell outside its box), section point X inside:
+   V-X crosses surface odd # of times, never cap (both strictly on its solid side): hits triangle nearer than W.
+   Vertices on plane count as beyond it (symbolic perturbation): segments agree */
 PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
 		const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
 	double mag = 0.0;
@@ -19422,7 +19398,7 @@ PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
 	return !c->capped || pvs__ep_cap_ok(c->cap_side, c->cap_axis, c->cap_value, cell);
 }
 
-/* Slice of sheet's solid half-space (beyond it from cell, over its polygon): pixels in by margin: Depth W. */
+/* Slice of sheet's solid half-space (beyond it from cell, over its polygon): pixels in by margin: Depth W */
 PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side,
 		const pvs__epframe *f, float *map, unsigned char *mask) {
 	int k = S->axis, along = f->a == (k + 1) % 3 ? 0 : 1; /* polygon coordinate of plane's axis */
@@ -19473,7 +19449,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
 	return written;
 }
 
-/* Slices each component plane cuts inside its rectangle. */
+/* Slices each component plane cuts inside its rectangle */
 PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
 		const pvs_extproj_plane *pl, const pvs__epframe *f, pvs__epslicer *sc,
 		const int *sheet_side, float *map, unsigned char *mask) {
@@ -19496,7 +19472,7 @@ PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep 
 /* ---- concave planar occluders (§3.4) */
 
 /* Clips concave boundary E (n edges) to w >= c (ge) or w <= c: kept edges cut exactly at c, + clip line's parts inside
-   P (crossings sorted, paired by parity). E: room for 1.5 n + 1 edges. Returns new count. */
+   P (crossings sorted, paired by parity). E: room for 1.5 n + 1 edges; new count */
 PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epocc *o, double *E, uint32_t n,
 		double cdepth, int ge) {
 	const pvs__epframe f = *fp;
@@ -19546,7 +19522,7 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
 }
 
 /* Marks in cmark (rows j0..j1, columns i0..i1) pixels edge e's penumbra may touch: hull of its ends' 16 corner views,
-   widened by rounding and 1e-3 pixel. 0 (all marked) if too far to bound. */
+   widened by rounding and 1e-3 pixel. 0 (all marked) if too far to bound */
 PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, double base, unsigned char *cmark,
 		int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
 	const pvs__epframe f = *fp;
@@ -19619,7 +19595,7 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 }
 
 /* Test (2) for pixel (xm, row): 1 if line from cell's centre through pixel's centre meets o's plane before (front) or
-   behind plane, inside boundary by parity, farther from it than slack. */
+   behind plane, inside boundary by parity, farther from it than slack */
 PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *o, const double *E, uint32_t n,
 		const double *world0, const double *pn, int pax, int front, double scale,
 		int32_t xm, int32_t row) {
@@ -19635,7 +19611,7 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 	t = ((double)o->pd - (pn[0] * world0[0] + pn[1] * world0[1] + pn[2] * world0[2])) / den;
 	if (front ? !(t > 0.0 && t <= 1.0) : !(t >= 1.0)) return 0;
 	PVS__FOR3(c) cp[c] = world0[c] + dir[c] * t;
-	for (q = 0; q < n; ++q) { /* parity and distance to boundary, in (pu, pv) */
+	for (q = 0; q < n; ++q) { /* parity, distance to boundary, in (pu, pv) */
 		const double *a = E + 6 * (size_t)q, *b = a + 3;
 		double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
 		if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
@@ -19653,9 +19629,9 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 }
 
 /* Projection of concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of plane or, unless front_only,
-   behind it. As cell point moves, line's crossing with P's plane leaves P only through its boundary, so pixel X covered
+   behind it. As cell point moves, line's crossing with P's plane leaves P only through boundary: pixel X covered
    if (1) outside every boundary edge's penumbra (cmark) and (2) line from cell's centre through X crosses P; one test
-   per unmarked run of row. Depth: farthest vertex + slack. */
+   per unmarked run of row. Depth: farthest vertex + slack */
 PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o,
 		int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
 	const pvs__epframe f = *fp;
@@ -19742,7 +19718,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 
 /* ---- depth maps with pyramids, sweep masks */
 
-/* Depth map and max pyramid (§2.4): texel: max Depth of its 2 x 2 children. */
+/* Depth map, max pyramid (§2.4): texel: max Depth of 2 x 2 children */
 typedef struct pvs__epmap {
 	pvs_extproj_plane plane;
 	pvs__epframe frame;
@@ -19752,7 +19728,7 @@ typedef struct pvs__epmap {
 	float *lv[14];
 } pvs__epmap;
 
-/* Max pyramid by pvs__pyramid_level (positive Depths: its SIMD path matches scalar). */
+/* Max pyramid by pvs__pyramid_level (positive Depths: SIMD path matches scalar) */
 PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
 	uint32_t l;
 	for (l = 1; l <= m->levels; ++l)
@@ -19760,7 +19736,7 @@ PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
 }
 
 /* Top-down query of extproj's pyramids: depth maps (max pyramids: open where Depth >= d) and sweep masks (AND pyramids:
-   open where `bit` is 0). 1 if level-0 pixel of rect r (x0 y0 x1 y1) under texel (tx, ty) of level l open. */
+   open where `bit` is 0). 1 if level-0 pixel of rect r (x0 y0 x1 y1) under texel (tx, ty) of level l open */
 typedef struct pvs__ep_pyr {
 	float *const *depth; /* depth map levels; NULL for mask */
 	unsigned char *const *mask;
@@ -19783,7 +19759,7 @@ PVS__STATIC int pvs__ep_open_at(const pvs__ep_pyr *p, uint32_t l, uint32_t tx, u
 	return 0;
 }
 
-/* 1 if pixel of rect r open or off plane: from finest level where r spans 2 x 2 texels. */
+/* 1 if pixel of rect r open or off plane: from finest level where r spans 2 x 2 texels */
 PVS__STATIC int pvs__ep_open(const pvs__ep_pyr *p, const pvs_extproj_plane *plane, uint32_t levels, const int32_t *r) {
 	uint32_t l = 0, tx, ty;
 	if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)plane->width || r[3] >= (int32_t)plane->height) return 1;
@@ -19810,7 +19786,7 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
 /* Sweep plane (§5): mask (1: every ray from cell through pixel blocked before plane) and AND pyramid. With sub-cells
    (nsub = 4) bit j says so for quarter j of cell (halved across direction on u: bit 0, v: bit 1; frame sub[j]): their
    umbrae together wider than cell's; object hidden if hidden from each. frame.bits: all 4 (slices block every ray).
-   nsub = 0: bit 1. */
+   nsub = 0: bit 1 */
 #define PVS__EP_MAX_SUB 4
 typedef struct pvs__epmask {
 	pvs_extproj_plane plane;
@@ -19821,7 +19797,7 @@ typedef struct pvs__epmask {
 	pvs__epframe sub[PVS__EP_MAX_SUB];
 } pvs__epmask;
 
-/* Umbrae a mask holds (1 or 4); j-th's frame. */
+/* Umbrae a mask holds (1 or 4); j-th's frame */
 PVS__STATIC uint32_t pvs__ep_nsub(const pvs__epmask *m) { return m->nsub ? m->nsub : 1u; }
 PVS__STATIC const pvs__epframe *pvs__ep_subframe(const pvs__epmask *m, uint32_t j) {
 	return m->nsub ? m->sub + j : &m->frame;
@@ -19841,7 +19817,7 @@ PVS__STATIC void pvs__ep_split_mask(pvs__epmask *m) {
 	m->frame.bits = (unsigned char)((1u << PVS__EP_MAX_SUB) - 1u);
 }
 
-/* Mask's AND pyramid. Not pvs__pyramid_level: no min or max of values gives each sub-cell bit's AND. */
+/* Mask's AND pyramid. Not pvs__pyramid_level: no min or max of values gives each sub-cell bit's AND */
 PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
 	uint32_t l, x, y;
 	for (l = 1; l <= m->levels; ++l) {
@@ -19869,7 +19845,7 @@ PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsign
 }
 
 /* Reprojection (§5.1): per column of `to`, range [lo, hi] of `from`'s pixels on u (per row, on v) crossed by rays from
-   cell through it, extremes at cell corners and pixel edges; lo = -1 outside `from`. */
+   cell through it, extremes at cell corners and pixel edges; lo = -1 outside `from` */
 PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, double W_from, double W_to, double to_k0,
 		double to_sk, uint32_t to_n, double from_k0, double from_sk, uint32_t from_n,
 		int32_t *lo, int32_t *hi) {
@@ -19914,7 +19890,7 @@ typedef struct pvs__epparams {
 
 /* Preview's coarse test (PVS_BAKE_PREVIEW): node subtending < PVS__EP_COARSE_ANGLE (diagonal over distance + cell
    diagonal; ~4 pixels of 64-pixel plane) decided whole; past PVS__EP_COARSE_TESTS box tests all kept. Such nodes number
-   ~log(scene / cell) / angle^2 at any scene size. Only hidden boxes dropped. */
+   ~log(scene / cell) / angle^2 at any scene size. Only hidden boxes dropped */
 #define PVS__EP_COARSE_ANGLE 0.25
 #define PVS__EP_COARSE_TESTS 4096u
 
@@ -19933,7 +19909,7 @@ typedef struct pvs__epcell {
 
 /* 1 if box between cell and plane (depths w0 > 0..w1 <= W) hidden by §4's improved Projection: point of each "any"
    axis range and all of each "all" range hold occluders strictly nearer than w0. Property 1 needs them convex or
-   planar: Projections and reprojected maps are; slices (Depth W) never pass front box's depth test. */
+   planar: Projections and reprojected maps are; slices (Depth W) never pass front box's depth test */
 PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, double w0, double w1) {
 	const pvs__epframe *f = &m->frame;
 	int32_t ru[2], rv[2], r[4], i, j;
@@ -19961,7 +19937,7 @@ PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, doub
 	return 0;
 }
 
-/* Box beyond sweep plane: §3.1's Projection (every blocked pixel's occluder nearer); per sub-cell. */
+/* Box beyond sweep plane: §3.1's Projection (every blocked pixel's occluder nearer); per sub-cell */
 PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
 	int32_t r[4];
 	float depth;
@@ -19974,7 +19950,7 @@ PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
 }
 
 /* 1 if box hidden from whole cell (never if meeting it): on §6.1's planes by §3.1 behind, §4 in front, both parts if
-   straddling; on sweep's by last 2 planes before it. */
+   straddling; on sweep's by last 2 planes before it */
 PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
 	int d;
 	if (pvs__box_overlap(b, &c->cell)) return 0;
@@ -20022,7 +19998,7 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
 
 /* 1 if part of object o in b (its box cut by leaf) may be seen: ranges of its triangles in file order, their boxes (of
    points in b) tested top-down (Durand 2000 §2.4, §6.1), hidden skipped, visible halved. Pays only with sweeps
-   (tree's box mostly air). Large objects or runs (PVS__EP_PARTS_TRIS, PVS__EP_PARTS_TESTS) kept. */
+   (tree's box mostly air). Large objects or runs (PVS__EP_PARTS_TRIS, PVS__EP_PARTS_TESTS) kept */
 #define PVS__EP_PARTS_TRIS 16384u
 #define PVS__EP_PARTS_TESTS 256u
 PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box *b) {
@@ -20059,7 +20035,7 @@ PVS__STATIC int pvs__ep_wanted(const pvs__epcell *c, uint32_t o) {
 }
 
 /* §6.1: occludees top-down through object kD-tree, hidden nodes skipped; object visible if its box cut by leaf is
-   (sweep: pvs__ep_parts_visible). Coarse: PVS__EP_COARSE_ANGLE. */
+   (sweep: pvs__ep_parts_visible). Coarse: PVS__EP_COARSE_ANGLE */
 PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 		uint32_t count) {
 	pvs__epcell *c = (pvs__epcell *)user;
@@ -20089,14 +20065,14 @@ PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float d
 	return PVS_VISIT_DESCEND;
 }
 
-/* Box depths w0, w1 beyond cell's face in direction d. */
+/* Box depths w0, w1 beyond cell's face in direction d */
 PVS__STATIC void pvs__ep_box_w(const pvs_box *cell, const pvs_box *b, int d, double *w0, double *w1) {
 	int a = d >> 1;
 	if (d & 1) { *w0 = (double)cell->min[a] - b->max[a]; *w1 = (double)cell->min[a] - b->min[a]; }
 	else { *w0 = (double)b->min[a] - cell->max[a]; *w1 = (double)b->max[a] - cell->max[a]; }
 }
 
-/* §6.1 plane placement: pixels occluder's box fills on plane at W, per axis. */
+/* §6.1 plane placement: pixels occluder's box fills on plane at W, per axis */
 PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, int d, double W) {
 	int a = d >> 1, ax[2], k, i, j;
 	double w0, w1, ext = (double)cell->max[a] - cell->min[a], len[2];
@@ -20127,7 +20103,7 @@ PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, 
 			((double)cell->max[ax[1]] - cell->min[ax[1]] + 2.0 * PVS__EP_EXTEND * (W + ext)));
 }
 
-/* Plane of direction d at W reaching sideways PVS__EP_EXTEND x its distance from far cell side (§6.1: corners). */
+/* Plane of direction d at W reaching sideways PVS__EP_EXTEND x its distance from far cell side (§6.1: corners) */
 PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32_t res, pvs_extproj_plane *pl) {
 	int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
 	double ext = (double)cell->max[a] - cell->min[a];
@@ -20143,7 +20119,7 @@ PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32
 	pl->width = pl->height = res;
 }
 
-/* Sweep mask's longest side (res^2 pixels spread over what matters, pvs__ep_fit_plane). */
+/* Sweep mask's longest side (res^2 pixels spread over what matters, pvs__ep_fit_plane) */
 PVS__STATIC uint32_t pvs__ep_max_side(uint32_t res) {
 	return 16u * res < PVS__EP_MAX_SIDE ? 16u * res : PVS__EP_MAX_SIDE;
 }
@@ -20168,16 +20144,16 @@ PVS__STATIC uint32_t pvs__ep_level_count(uint32_t res) {
 	return levels;
 }
 
-/* Counts in mask's summed-area table: (w + 1) (h + 1) <= res^2 + w + h + 1, w + h <= side + res. */
+/* Counts in mask's summed-area table: (w + 1) (h + 1) <= res^2 + w + h + 1, w + h <= side + res */
 PVS__STATIC size_t pvs__ep_sat_table(uint32_t res) { return (size_t)res * res + pvs__ep_max_side(res) + res + 1; }
 
 /* Sweep's summed-area tables: one per plane of direction (each read by <= log2(sweep) + 1 later planes) within
-   PVS__EP_SAT_CACHE bytes and sweep >= 2; else 2, rebuilt per use. */
+   PVS__EP_SAT_CACHE bytes and sweep >= 2; else 2, rebuilt per use */
 PVS__STATIC size_t pvs__ep_sat_count(uint32_t res, uint32_t sweep) {
 	return (size_t)sweep * pvs__ep_sat_table(res) * sizeof(uint32_t) <= PVS__EP_SAT_CACHE && sweep >= 2 ? sweep : 2;
 }
 
-/* Pixel-sized part of what pvs__extproj_cell allocates (as pvs__ep_scratch_free frees). */
+/* Pixel-sized part of what pvs__extproj_cell allocates (as pvs__ep_scratch_free frees) */
 PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
 	uint32_t res = resolution ? resolution : PVS__EP_DEFAULT_RES, levels = pvs__ep_level_count(res);
 	size_t level_floats, bytes;
@@ -20196,7 +20172,7 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
    pixels over it within `room` with `levels`; pixels outside count as open. Nothing that could hide is lost: only
    occludees beyond (§3.1) and reprojection farther out (§5.1) read masks, and rays from cell to points beyond cross
    plane inside span, which holds cell's (as pvs__epslab needs). §6.1's planes not fitted: §4 often hides by pixels
-   outside span. */
+   outside span */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels,
 		size_t room, pvs_extproj_plane *pl) {
 	int a = (int)pl->axis, k;
@@ -20248,7 +20224,7 @@ typedef struct pvs__epscratch {
 	size_t stamp_count;
 } pvs__epscratch;
 
-/* Scratch's buffers (pvs__buf), listed once for pvs__extproj_cell's alloc and free; the sweep's if nmask. */
+/* Scratch's buffers (pvs__buf), listed once for pvs__extproj_cell's alloc and free; sweep's if nmask */
 PVS__STATIC int pvs__ep_scratch_bufs(pvs__epscratch *w, uint32_t res, pvs__buf *b) {
 	int k = 0;
 	PVS__BUFT(b, k, w->seen, w->seen_words);
@@ -20268,7 +20244,7 @@ PVS__STATIC int pvs__ep_scratch_bufs(pvs__epscratch *w, uint32_t res, pvs__buf *
 	return k;
 }
 
-/* Solid angle of triangle (a, b, c) from e (Van Oosterom and Strackee 1983). */
+/* Solid angle of triangle (a, b, c) from e (Van Oosterom and Strackee 1983) */
 PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, const float *b, const float *c) {
 	double A[3], B[3], C[3], la, lb, lc, num, den;
 	int k;
@@ -20282,7 +20258,7 @@ PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, cons
 	return 2.0 * pvs__dabs(atan2(num, den));
 }
 
-/* Solid angle of occluder from e: polygon's by fan, solid's by its box (<= 3 faces face e). */
+/* Solid angle of occluder from e: polygon's by fan, solid's by box (<= 3 faces face e) */
 PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__epocc *o, const double *e) {
 	double sum = 0.0;
 	uint32_t i;
@@ -20307,7 +20283,7 @@ PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__ep
 }
 
 /* Selection (§6.1): per direction n occluders of largest solid angle from cell's centre beyond face, by (score, lower
-   index): total order, visit-order free; those whose bound (area / distance^2) cannot enter heap skipped. */
+   index): total order, visit-order free; those whose bound (area / distance^2) cannot enter heap skipped */
 typedef struct pvs__epselect {
 	const pvs_scene *scene;
 	const pvs__extproj_prep *p;
@@ -20324,7 +20300,7 @@ PVS__STATIC int pvs__ep_sel_better(float score, uint32_t occ, const pvs__epsel *
 	return score > h->score || (score == h->score && occ < h->occ);
 }
 
-/* pvs__topk_offer's order: larger score first, ties to smaller occluder id. */
+/* pvs__topk_offer's order: larger score first, ties to smaller occluder id */
 PVS__STATIC int pvs__ep_sel_before(const void *a, const void *b) {
 	const pvs__epsel *x = (const pvs__epsel *)a;
 	return pvs__ep_sel_better(x->score, x->occ, (const pvs__epsel *)b);
@@ -20337,7 +20313,7 @@ PVS__STATIC void pvs__ep_sel_push(pvs__epsel *h, uint32_t n, uint32_t *count, fl
 	pvs__topk_offer(h, count, n, sizeof(e), &e, pvs__ep_sel_before);
 }
 
-/* 1 if occluder of this box could, by solid angle bound, enter heap of a direction it reaches. */
+/* 1 if occluder of this box could, by solid angle bound, enter heap of direction it reaches */
 PVS__STATIC int pvs__ep_sel_wanted(const pvs__epselect *w, const pvs_box *box, double bound) {
 	uint32_t d;
 	for (d = 0; d < 6; ++d) {
@@ -20368,7 +20344,7 @@ PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, flo
 		if (w->candidates && o->object != PVS_NO_OBJECT &&
 			!(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
 			!pvs_bitset_test(w->candidates, o->object))
-			continue; /* §6.1: hidden from parent cell, so redundant (safe to leave out) */
+			continue; /* §6.1: hidden from parent cell: redundant (safe to leave out) */
 		PVS__FOR3(d) {
 			double g = w->centre[d] < o->box.min[d] ? o->box.min[d] - w->centre[d]
 				: w->centre[d] > o->box.max[d]      ? w->centre[d] - o->box.max[d]
@@ -20437,7 +20413,7 @@ PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_
 }
 
 /* Occluder points for plane of `axis`: extended through its sheet if cell over it on occluder's side and extension
-   crosses axis (along it, it only pushes Depth away); NULL: capped solid not over cell. */
+   crosses axis (along it, it only pushes Depth away); NULL: capped solid not over cell */
 PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell,
 		const int *sheet_side, int axis, uint32_t *count) {
 	if (!pvs__ep_cap_ok(o->cap_side, o->cap_axis, o->cap_value, cell)) return NULL;
@@ -20449,7 +20425,7 @@ PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__e
 	return p->pts + 3 * (size_t)o->first;
 }
 
-/* Per sheet: +1 (-1) if cell strictly on its positive (negative) side over its polygon, else 0. */
+/* Per sheet: +1 (-1) if cell strictly on its positive (negative) side over its polygon, else 0 */
 PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *cell, int *side) {
 	uint32_t i;
 	for (i = 0; i < p->sheet_count; ++i) {
@@ -20466,7 +20442,7 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
 
 /* §6.1's planes for direction d: one just behind farthest selected occluder (behind occluder any plane is equivalent,
    §7.3; in front it loses it to penumbra), others per distance band (far / r^q, far / r^(q-1)], r =
-   PVS__EP_PLANE_RATIO, behind band's occluder filling most pixels, for nearer occludees and fusion (Fig. 16). */
+   PVS__EP_PLANE_RATIO, behind band's occluder filling most pixels, for nearer occludees and fusion (Fig. 16) */
 PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 		const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
 		float *mem, size_t map_floats, pvs__epslicer *sc, const int *sheet_side,
@@ -20521,9 +20497,9 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
 }
 
 /* §5.1 reprojection: marks in `to` (farther than `from`) pixels whose every ray from cell crosses blocked pixels of
-   `from`: umbra inside that of occluders before `from` (Appendix B), so conservative. Kernel: true cell's per row and
+   `from`: umbra inside that of occluders before `from` (Appendix B): conservative. Kernel: true cell's per row and
    column (pvs__ep_reproject_axis); summed-area table of from's open pixels decides. Sub-cell j: own kernel, sat_split
-   lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
+   lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to` */
 PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split,
 		pvs__epmask *to, int32_t *ranges, uint32_t j) {
 	unsigned char *mask = to->lv[0];
@@ -20559,7 +20535,7 @@ PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *
 	}
 }
 
-/* Summed-area table of mask's pixels without `bit`: (width + 1) x (height + 1) counts. */
+/* Summed-area table of mask's pixels without `bit`: (width + 1) x (height + 1) counts */
 PVS__STATIC void pvs__ep_mask_sat(const pvs__epmask *from, uint32_t *sat, unsigned char bit) {
 	const unsigned char *prev = from->lv[0];
 	uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1;
@@ -20575,7 +20551,7 @@ PVS__STATIC void pvs__ep_mask_sat(const pvs__epmask *from, uint32_t *sat, unsign
 }
 
 /* All sub-cells' summed-area tables at once: 16-bit lane j counts pixels without bit j, mod 2^64. Window's sum exact
-   mod 2^64, so each lane exact below 2^16 (caller checks): carries between lanes cancel. */
+   mod 2^64: each lane exact below 2^16 (caller checks): carries between lanes cancel */
 PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) {
 	const unsigned char *prev = from->lv[0];
 	uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1, b;
@@ -20594,7 +20570,7 @@ PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) 
 	}
 }
 
-/* pvs__ep_reproject_sat building table in `sat` ((res + 1)^2 counts; with sub-cells 2x that, 8-aligned). */
+/* pvs__ep_reproject_sat building table in `sat` ((res + 1)^2 counts; with sub-cells 2x that, 8-aligned) */
 PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
 	uint32_t j;
 	if (!to->nsub) {
@@ -20609,7 +20585,7 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
 /* §5.1 reprojection onto plane `count` from planes 1, 2, 4, 8, ... back (Appendix B: each one's blocked pixels lie in
    umbra of occluders before it). Each reprojection loses <= 1 pixel per side to rounding (cell: box, not paper's planar
    equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j to k. `cached` (never
-   with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
+   with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one */
 PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat,
 		size_t stride, int cached, int32_t *ranges) {
 	uint32_t back;
@@ -20622,7 +20598,7 @@ PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, 
 
 /* Occluders a sweep plane takes (§5.2: occluders in front of plane P projected onto P): those with part since previous
    plane (straddling ones go on each). Skipped: nodes outside that slab, sideways beyond rectangle (farther out from
-   every cell point), or in previous umbra. */
+   every cell point), or in previous umbra */
 typedef struct pvs__epslab {
 	const pvs_scene *scene;
 	const pvs__extproj_prep *p;
@@ -20681,7 +20657,7 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
    slices it cuts; count to *planes. Unlike §5.2 (tests/BENCHMARKS.md, extproj): geometric spacing, as dD = D (K - 1) P
    / (C N) crowds planes near cell, where small umbrae short, leaving few far out, where gaps between small occluders
    close; none nearer than C: occluder of width s < C / 2 at w casts umbra ending before w C / (C - s) < 2 w (nearer
-   occluders still reach first plane); far end (scene's: §6.1 favours near occluders) holds no plane. */
+   occluders still reach first plane); far end (scene's: §6.1 favours near occluders) holds no plane */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 		const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
 		pvs__epscratch *w, const int *sheet_side, const pvs_word *candidates,
@@ -20765,7 +20741,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 }
 
 /* One cell's PVS (Durand 2000 §6.1): per direction chosen occluders on §6.1's planes and §5's sweep, then occludees
-   front to back. `candidates` (adaptive sub-cell): only these tested, others' occluders left out. */
+   front to back. `candidates` (adaptive sub-cell): only these tested, others' occluders left out */
 PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
 		const pvs__epparams *prm, const pvs_word *candidates, const pvs_allocator *al,
 		pvs_word *bits, uint32_t cell_id, pvs_error *err) {
@@ -20865,7 +20841,7 @@ PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_er
 	return PVS_OK;
 }
 
-/* desc's parameters, else defaults (PREVIEW: coarse; AUTO: with sweep). */
+/* desc's parameters, else defaults (PREVIEW: coarse; AUTO: with sweep) */
 PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
 		pvs_error *err) {
 	pvs__extproj_bake *x = (pvs__extproj_bake *)pvs__alloc(&env->allocator, sizeof(pvs__extproj_bake), 16);
@@ -20894,7 +20870,7 @@ PVS__STATIC int pvs__extproj_bake_applies(const void *state, const char **why) {
 	return any;
 }
 
-/* Tests only candidates (if given), sets no other object. */
+/* Tests only candidates (if given), sets no other object */
 PVS__STATIC pvs_result pvs__extproj_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
 		const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
 		unsigned *flags, pvs_error *err) {
@@ -20923,18 +20899,18 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {
 
 Wonka 2000 §2.1: cell's PVS is union of its samples'. Per sample, occlusion horizon over PVS__HZ_BINS angular bins
 around eye (height H): facade of height T at ground distance dc hides point at distance r > dc, height z if (z - H) / r
-< (T - H) / dc. Bin one chain of shrunk facades covers wholly (shared corners: no crack) is crossed by all its rays
-between dmin and dmax, so beyond dmax it hides below slope (T - H) / dmax (T >= H) or (T - H) / dmin (T < H); per bin
-staircase of (distance, slope) steps keeps best. Box hidden if every bin its ground rectangle touches has, at its min
+< (T - H) / dc. Bin one chain of shrunk facades covers wholly (shared corners: no crack) is crossed by all rays
+between dmin and dmax: beyond dmax it hides below slope (T - H) / dmax (T >= H) or (T - H) / dmin (T < H); per bin
+staircase of (distance, slope) steps keeps best. Box hidden if every bin its ground rectangle touches has, at min
 distance, slope above its steepest sight line. Occluders front to back, occluded ones skipped (§3.4). Angles bin-exact,
-rest rounded safe. */
+rest rounded safe */
 
-/* 0.23 degree bins; finer, eps / 2 columns, more steps, per-triangle tests: no gain (tests/BENCHMARKS.md, shrink). */
+/* 0.23 degree bins; finer, eps / 2 columns, more steps, per-triangle tests: no gain (tests/BENCHMARKS.md, shrink) */
 #define PVS__HZ_BINS 1536
 #define PVS__HZ_STEPS 6
 
 /* Pseudo-angles in [0, 4) ("diamond angle": monotone in angle, quarter turn per unit, no trigonometry); bin b covers [4
-   b / BINS, 4 (b + 1) / BINS). */
+   b / BINS, 4 (b + 1) / BINS) */
 typedef struct pvs__hz {
 	double eu, ev, H, w; /* eye; bin width (pseudo-angle) */
 	double dir[PVS__HZ_BINS + 1][2]; /* ray direction per bin boundary (unnormalized) */
@@ -20973,7 +20949,7 @@ PVS__STATIC void pvs__hz_init(pvs__hz *z) {
 PVS__STATIC double pvs__hz_lo(const pvs__hz *z, int32_t b) { return b * z->w; }
 PVS__STATIC double pvs__hz_hi(const pvs__hz *z, int32_t b) { return b + 1 == PVS__HZ_BINS ? 4.0 : (b + 1) * z->w; }
 /* Bin of pseudo-angle a, matching pvs__hz_lo / hi (w not power of 2: floor(a / w) can put angle just below b w in bin
-   b, so facade ending there would claim bin b - 1). */
+   b: facade ending there would claim bin b - 1) */
 PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
 	int32_t b = (int32_t)floor(a / z->w);
 	b = b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
@@ -20982,14 +20958,14 @@ PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
 	return b;
 }
 
-/* Distance along boundary ray k to line p-q (eye-relative ground points); -1 if parallel. */
+/* Distance along boundary ray k to line p-q (eye-relative ground points); -1: parallel */
 PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], const double q[2]) {
 	double dx = z->dir[k][0], dy = z->dir[k][1], ex = q[0] - p[0], ey = q[1] - p[1], den = dx * ey - dy * ex;
 	if (den == 0.0) return -1.0;
 	return (p[0] * ey - p[1] * ex) / den * z->dlen[k];
 }
 
-/* Bin b's part [a0, a1] covered by facade seen from outside, crossed at d0, d1; line nearest at (afoot, dfoot). */
+/* Bin b's part [a0, a1] covered by facade seen from outside, crossed at d0, d1; line nearest at (afoot, dfoot) */
 PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot,
 		double afoot) {
 	double lo, hi;
@@ -21035,7 +21011,7 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 	}
 }
 
-/* Facade p-q (world ground points) of current chain. */
+/* Facade p-q (world ground points) of current chain */
 PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, d1;
 	int32_t b0, b1, k;
@@ -21067,7 +21043,7 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	}
 }
 
-/* Step (r, s): from distance r on, slope >= s. */
+/* Step (r, s): from distance r on, slope >= s */
 PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
 	uint32_t n = z->nstep[b], i, j;
 	float *R = z->step_r[b], *S = z->step_s[b];
@@ -21083,7 +21059,7 @@ PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
 	z->nstep[b] = (uint8_t)(n + 1);
 }
 
-/* Best slope of bin b for points at distance >= d (-FLT_MAX: none). */
+/* Best slope of bin b for points at distance >= d (-FLT_MAX: none) */
 PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
 	uint32_t i, n = z->nstep[b];
 	float best = -FLT_MAX;
@@ -21092,8 +21068,8 @@ PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
 	return best;
 }
 
-/* Bins [*b0, *b1] (b1 >= BINS if wrapping) and ground distances *dmin, *dmax from eye of rectangle u0..u1, v0..v1; 0 if
-   eye in or on it. Span runs CCW between silhouette corners. */
+/* Bins [*b0, *b1] (b1 >= BINS if wrapping) and ground distances *dmin, *dmax from eye of rectangle u0..u1, v0..v1; 0:
+   eye in or on it. Span runs CCW between silhouette corners */
 PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1,
 		double *dmin, double *dmax) {
 	/* corners where rectangle starts and ends CCW, by region 3 rx + ry: bits 3, 2 (start) and 1, 0 (end) pick x1 over
@@ -21125,7 +21101,7 @@ PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, 
 	return 1;
 }
 
-/* Distance along boundary ray k into rectangle (eye-relative); DBL_MAX if none. */
+/* Distance along boundary ray k into rectangle (eye-relative); DBL_MAX if none */
 PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double y0, double x1, double y1) {
 	double dx = z->dir[k][0], dy = z->dir[k][1], t0 = 0.0, t1 = DBL_MAX;
 	if (dx != 0.0) {
@@ -21141,7 +21117,7 @@ PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double 
 	return t1 >= t0 ? t0 * z->dlen[k] : DBL_MAX;
 }
 
-/* 1 if box may be visible (2.5D path's hiding rule). */
+/* 1 if box may be visible (2.5D path's hiding rule) */
 PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int v, uint32_t up) {
 	int32_t b0, b1, k;
 	double dmin, dmax, need, top = bx->max[up], x0, y0, x1, y1, ca[4], near_a;
@@ -21213,7 +21189,7 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
 	}
 }
 
-/* Cell's 3 walks (pvs_shrink_cell checks o->scene is cell's). */
+/* Cell's 3 walks (pvs_shrink_cell checks o->scene is cell's) */
 typedef struct pvs__shrink_walk {
 	const pvs_occluders *o;
 	pvs__hz *hz;
@@ -21223,7 +21199,7 @@ typedef struct pvs__shrink_walk {
 	pvs_shrink_stats *st;
 	int u, v;
 } pvs__shrink_walk;
-#define PVS__SHRINK_NEAR 0 /* objects meeting cell or under its top face: visible unsampled */
+#define PVS__SHRINK_NEAR 0 /* objects meeting cell or under top face: visible unsampled */
 #define PVS__SHRINK_SAMPLE 1 /* sample's objects, nodes hidden from it (§3.4) or all found skipped */
 #define PVS__SHRINK_HORIZON 2 /* sample's horizon: chains, nearer child first, hidden skipped (§3.4) */
 
@@ -21233,7 +21209,7 @@ PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int 
 	return du * du + dv * dv;
 }
 
-/* NEAR: 1 if box's ground rectangle meets cell's; else 1 if sample may see it. */
+/* NEAR: 1 if box's ground rectangle meets cell's; else 1 if sample may see it */
 PVS__STATIC int pvs__shrink_test(const pvs__shrink_walk *w, const pvs_box *b, int mode) {
 	if (mode != PVS__SHRINK_NEAR) return pvs__hz_test_box(w->hz, b, w->u, w->v, w->o->scene->up_axis);
 	return b->min[w->u] <= w->cell->max[w->u] && b->max[w->u] >= w->cell->min[w->u] &&
@@ -21246,7 +21222,7 @@ PVS__STATIC void pvs__shrink_found(pvs__shrink_walk *w, uint32_t ob) {
 	for (nd = w->o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = w->o->bvh.nodes[nd].parent) --w->remaining[nd];
 }
 
-/* Walk (PVS__SHRINK_*) over object hierarchy, or chains' for HORIZON; stack: slot per node. */
+/* Walk (PVS__SHRINK_*) over object hierarchy, or chains' for HORIZON; stack: slot per node */
 PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *stack) {
 	const pvs__obvh *h = mode == PVS__SHRINK_HORIZON ? &w->o->chain_bvh : &w->o->bvh;
 	uint32_t sp = 0, k;
@@ -21277,11 +21253,8 @@ PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *
 	}
 }
 
-/* §3: samples needed only on edges of cell's top face. Heightfield occluder O, point P outside cell's footprint R, V
-   on top face (height H) seeing P. In vertical plane through P, V ground segment crosses R's boundary at W'. If P not
-   above H, P-W' lies above P-V: W' sees P; else V moved away from P to boundary point W: P-W stays above P-V up to V,
-   above H beyond, where no column of O in R reaches. With O = shrunk occluder's eps-neighbourhood (no real sight line
-   enters it), edges decide if no column within eps of R rises above H - eps (with appendix's theorem). */
+/* Wonka 2000 §3: samples only on the edges of cell's top face, if no column within eps of R rises above H - eps (why:
+   README.md, "Why the conservative parts hold") */
 PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
 	const pvs__vx_cols *cm = &o->cols;
 	uint32_t i0, i1, j0, j1, i, j;
@@ -21296,7 +21269,7 @@ PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box 
 
 /* 2.5D path (§3): samples on cell's top face (2.5D occluder hides from point only what it hides from all points above
    it): on its edges every 2 eps if pvs__shrink_edges_suffice allows, else grid of spacing eps sqrt(2); per sample its
-   horizon (§3.4) and objects it may see. */
+   horizon (§3.4) and objects it may see */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
 		pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
 	pvs__shrink_walk w;
@@ -21334,7 +21307,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 	if (o->bvh.node_count) {
 		uint32_t ob;
 		memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
-		/* objects set on entry: off counts, so nodes holding only them skipped */
+		/* objects set on entry: off counts: nodes holding only them skipped */
 		for (ob = pvs_bitset_next(visible, s->object_count, 0); ob < s->object_count;
 			 ob = pvs_bitset_next(visible, s->object_count, ob + 1))
 			pvs__shrink_found(&w, ob);
@@ -21368,7 +21341,7 @@ done:
 #define PVS__SHRINK_RES 64u
 
 /* 1 if box bx may reach into view from p along axis dax (positive if pos): lateral offsets within 1.1 x distance ahead,
-   superset of 1.6 rad square frustum with room for rounding. *dn, *df: min, max depth. */
+   superset of 1.6 rad square frustum, room for rounding. *dn, *df: min, max depth */
 PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, int pos, double *dn, double *df) {
 	int l;
 	double lim;
@@ -21381,8 +21354,8 @@ PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, 
 	return 1;
 }
 
-/* Box bx's image from p along dax, lateral offset / distance ahead on other axes: r[0..1] min, r[2..3] max. 0 if within
-   1e-3 of its depth of eye plane. */
+/* Box bx's image from p along dax, lateral offset / distance ahead on other axes: r[0..1] min, r[2..3] max. 0: within
+   1e-3 of its depth of eye plane */
 PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax, double dn, double df, double r[4]) {
 	int k;
 	if (!(dn > 1e-3 * df)) return 0;
@@ -21395,7 +21368,7 @@ PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax
 	return 1;
 }
 
-/* 3D path's per-cell state. */
+/* 3D path's per-cell state */
 typedef struct pvs__shrink3d {
 	const pvs_scene *s;
 	const pvs_occluders *o;
@@ -21410,7 +21383,7 @@ typedef struct pvs__shrink3d {
 } pvs__shrink3d;
 
 /* Into w->cand, objects a view from p along dax can change (unseen, pvs__shrink_in_view); *far: their farthest depth;
-   crect: their images' union while *bounded stays 1. Returns count. */
+   crect: their images' union while *bounded stays 1; count */
 PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, int dax, int pos, double *far,
 		double crect[4], int *bounded) {
 	const pvs_scene *s = w->s;
@@ -21435,7 +21408,7 @@ PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, in
 
 /* One view of cube at sample p (§2.3), direction dir (axis dir / 2, positive if odd): candidates tested as occludees
    against eroded boxes nearer than farthest candidate whose image meets theirs (no other changes test); passing ones
-   join w->seen. */
+   join w->seen */
 PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir) {
 	const pvs_occluders *o = w->o;
 	uint32_t i, nb = o->box_count, nsel = 0, ncand;
@@ -21473,7 +21446,7 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
 }
 
 /* Samples of cell face `face` (axis face / 2, max side if odd) at spacing <= `spacing`, corners included, each looking
-   6 ways; UNSUPPORTED past 1024 a side. */
+   6 ways; UNSUPPORTED past 1024 a side */
 PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, uint32_t face, float spacing,
 		pvs_error *err) {
 	int ax = (int)face / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
@@ -21501,7 +21474,7 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
 
 /* 3D path (§2.1, 2.3): samples on cell's 6 faces at spacing <= eps sqrt(2) (sight lines from inside leave through
    boundary, all within eps of sample), each a cube of 6 depth maps of eroded boxes; PVS: their union. Objects within 2x
-   near distance set (cube sees nothing nearer than its near plane). */
+   near distance set (cube sees nothing nearer than near plane) */
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
 		pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
 	pvs_raster_desc rd;
@@ -21622,7 +21595,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 
 /* Default eps: 1/8 of cells' median smallest ground extent (Wonka 2000 §4.1: 1 m for cells of several metres), in
    double (cell 6e38 wide has no float extent), clamped to [1e-6 of scene's diagonal (no underflow to 0), diagonal]. Any
-   eps > 0 is conservative. */
+   eps > 0: conservative */
 PVS__STATIC double pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
 	double e = (double)c->max[u] - c->min[u], f = (double)c->max[v] - c->min[v];
 	return f < e ? f : e;
@@ -21656,7 +21629,7 @@ typedef struct pvs__shrink_bake {
 	pvs_shrink_mode mode;
 } pvs__shrink_bake;
 
-/* Occluder synthesis over every cell of bake, not only shard's, so shards agree. */
+/* Occluder synthesis over every cell of bake, not only shard's: shards agree */
 PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
 		pvs_error *err) {
 	pvs__shrink_bake *sh;
@@ -21705,8 +21678,8 @@ PVS__STATIC int pvs__shrink_bake_applies(const void *state, const char **why) {
 	return 1;
 }
 
-/* SHRINK tests only candidates: other drawable objects preset in `bits` (caller's intersection removes them);
-   pvs_shrink_cell skips them. */
+/* SHRINK tests only candidates: other drawable objects preset in `bits` (caller's intersection removes them), skipped
+   by pvs_shrink_cell */
 PVS__STATIC void pvs__shrink_bake_preset(const pvs__bake_env *env, const pvs_word *candidates, pvs_word *bits) {
 	uint32_t i;
 	if (!candidates) return;
@@ -21750,7 +21723,7 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 }
 
 /* AUTO's price of SHRINK: depth cube per sample point on cell's faces (pvs__shrink_face): class 3 for mean of 294
-   points (cube of side 8 eps), +1 per doubling. */
+   points (cube of side 8 eps), +1 per doubling */
 PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc, const void *state) {
 	pvs_box sb = pvs_scene_bounds(desc->scene);
 	double points = 0.0, ref = 2.0 * 294.0 * desc->cell_count, n[3], eps = desc->eps;
@@ -21816,14 +21789,14 @@ struct pvs_bake {
 	uint32_t adaptive_budget; /* adaptive cells (§6.1); 0 = off */
 	float adaptive_min_size;
 	uint32_t *object_triangles;/* adaptive: triangles per object */
-	struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
+	struct pvs__bakeleaves *leaves; /* adaptive: per task, leaf cells */
 };
 
-/* Task's PVS into bake b (compact: coded, with encoder); its words (compact: decoded into buffer). */
+/* Task's PVS into bake b (compact: coded, with encoder); its words (compact: decoded into buffer) */
 PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word *bits, pvs_error *err);
 PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_word *buffer);
 
-/* Adaptive task's leaf cells, PVSs. */
+/* Adaptive task's leaf cells, PVSs */
 typedef struct pvs__bakeleaves {
 	size_t count, capacity;
 	pvs_box *boxes;
@@ -21832,13 +21805,13 @@ typedef struct pvs__bakeleaves {
 
 /* ---- method table */
 
-/* Every method driver runs, in pvs_method order (AUTO's order among equal costs). */
+/* Every method driver runs, in pvs_method order (AUTO's order among equal costs) */
 PVS__STATIC const pvs__bake_method *const pvs__bake_methods[] = {
 	&pvs__sample_method, &pvs__otree_method, &pvs__extproj_method, &pvs__shrink_method, &pvs__vocc_method,
 	&pvs__portal_method};
 #define PVS__BAKE_METHOD_COUNT (sizeof(pvs__bake_methods) / sizeof(pvs__bake_methods[0]))
 
-/* NULL for AUTO, DEFAULT, unknown. */
+/* NULL for AUTO, DEFAULT, unknown */
 PVS__STATIC const pvs__bake_method *pvs__bake_method_row(pvs_method m) {
 	uint32_t k;
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k)
@@ -21850,14 +21823,14 @@ PVS__STATIC void *pvs__bake_method_state(const pvs_bake *b, pvs_method m) {
 	return b && (int)m >= 0 && m < PVS_METHOD_COUNT ? b->state[m] : NULL;
 }
 
-/* Per-bake state, read-only in tasks. */
+/* Per-bake state, read-only in tasks */
 PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *row, const pvs_bake_desc *desc,
 		pvs_error *err) {
 	return row->prepare(&b->env, desc, &b->state[row->method], err);
 }
 
 /* Candidates of box's k-th method: its own (sub-cell's parent PVS, or NULL), from second on narrowed to what earlier
-   kept (AUTO runs SHRINK last). In *scratch if computed. */
+   kept (AUTO runs SHRINK last). In *scratch if computed */
 PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const pvs_word *candidates,
 		const pvs_word *each, pvs_word *scratch) {
 	size_t w;
@@ -21871,7 +21844,7 @@ PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const
 	return scratch;
 }
 
-/* One method's PVS of task's box into `bits` (cleared by caller); updates cell's flags. */
+/* One method's PVS of task's box into `bits` (cleared by caller); updates cell's flags */
 PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, const pvs__bake_method *row, uint32_t task, uint32_t cell,
 		const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
 		pvs_error *err) {
@@ -21924,7 +21897,7 @@ PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *
 }
 
 /* 1 only if all of a is surely farther than d from all of b: exact gaps in double, their sum within a few 1e-16
-   relative, under 1e-9 margin; boxes at d or a hair beyond stay. */
+   relative, under 1e-9 margin; boxes at d or a hair beyond stay */
 PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
 	double sum = 0.0;
 	int k;
@@ -21937,7 +21910,7 @@ PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
 	return sum > (double)d * (double)d * (1.0 + 1e-9);
 }
 
-/* Checks driver parameters, each method's, cells; *mask: methods AUTO considers. */
+/* Checks driver parameters, each method's, cells; *mask: methods AUTO considers */
 PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask, pvs_error *err) {
 	const pvs__bake_method *row;
 	pvs_method method;
@@ -22037,7 +22010,7 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 	return PVS_OK;
 }
 
-/* AUTO's cost class of method m for desc's cells. */
+/* AUTO's cost class of method m for desc's cells */
 PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, const pvs_bake_desc *desc) {
 	return m->price ? m->price(desc, b->state[m->method]) : m->cost_class;
 }
@@ -22046,7 +22019,7 @@ PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, co
    UNSUPPORTED skipped (reason kept). Cheapest: cost_rank's order, or with sample (sb) pvs__bake_price's. Each kept one
    then bakes sd's cells into sb (per cell slots: run[k]'s PVS, U their intersection, R what rays aimed at U prove
    visible, greedy choice's); one priced d classes above cheapest kept not prepared if PVS_AUTO_MIN_GAIN 2^d of U passes
-   U - R (no method culls R; no sample: R empty). */
+   U - R (no method culls R; no sample: R empty) */
 #define PVS__SAMPLE_SLOTS (PVS_METHOD_COUNT + 3)
 PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, const pvs_bake_desc *sd,
 		uint32_t mask, pvs_word *sb, pvs_error *err) {
@@ -22114,12 +22087,12 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 /* AUTO's sample (CONCEPTS, Methods): applicable methods prepared for PVS_AUTO_SAMPLE_CELLS cells spread over all cells
    (shard's too: shards decide alike), each baking them alone. Greedily, smallest PVS's method kept (ties: cheaper),
    then, best ratio first, those culling beyond kept PVS_AUTO_MIN_GAIN of it, doubled per class (pvs__bake_price) above
-   first kept's, halved below. Kept ones prepared for every cell. */
+   first kept's, halved below. Kept ones prepared for every cell */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
 
-/* Greedy choice over sample cells' PVSs in sb (pvs__bake_choose): b->run keeps chosen. */
+/* Greedy choice over sample cells' PVSs in sb (pvs__bake_choose): b->run keeps chosen */
 PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, uint32_t S, pvs_word *sb) {
 	uint32_t n = b->run_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
 	int c0 = 0, price[PVS_METHOD_COUNT];
@@ -22176,7 +22149,7 @@ PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, u
 	b->run_count = kept;
 }
 
-/* AUTO with sample (pvs__bake_wants_sample). */
+/* AUTO with sample (pvs__bake_wants_sample) */
 PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask,
 		pvs_error *err) {
 	pvs_box sample[PVS_AUTO_SAMPLE_CELLS];
@@ -22294,7 +22267,7 @@ PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
 PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->env.eps; }
 
 /* Left out, rounded toward keeping: objects past draw distance (pvs_bake_desc.max_distance); one-sided ones with all of
-   box behind each triangle's plane (max over box of n.(p - a) < -1e-9 of its terms' size; errors ~1e-15). */
+   box behind each triangle's plane (max over box of n.(p - a) < -1e-9 of terms' size; errors ~1e-15) */
 PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_word *bits) {
 	const pvs_scene *s = b->env.scene;
 	uint32_t i, t, e;
@@ -22322,7 +22295,7 @@ PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_w
 	}
 }
 
-/* All methods on box, intersected, within `candidates` if given, then draw distance. `each`: run_count + 1. */
+/* All methods on box, intersected, within `candidates` if given, then draw distance. `each`: run_count + 1 */
 PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box,
 		const pvs_word *candidates, pvs_word *bits, pvs_word *each, pvs_error *err) {
 	uint32_t k;
@@ -22338,7 +22311,7 @@ PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, 
 	return PVS_OK;
 }
 
-/* PVS's triangles (polygon budget, §6.1). */
+/* PVS's triangles (polygon budget, §6.1) */
 PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits) {
 	uint64_t n = 0;
 	uint32_t o;
@@ -22349,7 +22322,7 @@ PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits
 }
 
 /* Adaptive split (Durand 2000 §6.1) of box with PVS work[depth]: leaf if PVS fits budget or half < min_size, else
-   halves across longest side, low first, baked from its PVS. work: 48 bitsets; each: run_count + 1. */
+   halves across longest side, low first, baked from its PVS. work: 48 bitsets; each: run_count + 1 */
 PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size,
 		pvs_word *work, pvs_word *each, uint32_t depth, pvs_error *err) {
 	pvs__bakeleaves *L = b->leaves + task;
@@ -22396,7 +22369,7 @@ PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell
 	return PVS_OK;
 }
 
-/* Task's adaptive leaves below its PVS `bits`, from scratch. */
+/* Task's adaptive leaves below its PVS `bits`, from scratch */
 PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_word *bits,
 		pvs_error *err) {
 	const pvs_box *c = b->cells + task;
@@ -22415,7 +22388,7 @@ PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell
 	return r;
 }
 
-/* pvs_bake_run_task's work: task's PVS into bits, its stats, flags, adaptive leaves. */
+/* pvs_bake_run_task's work: task's PVS into bits, stats, flags, adaptive leaves */
 PVS__STATIC pvs_result pvs__bake_task(pvs_bake *b, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
 	uint32_t k, i, n, *own, *sole;
 	pvs_word *each = NULL;
@@ -22599,7 +22572,7 @@ PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
 	return 1;
 }
 
-/* All tasks' adaptive leaves in task order, one table (caller frees it with sizes returned). */
+/* All tasks' adaptive leaves in task order, one table (caller frees it with sizes returned) */
 PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cells, pvs_word **pvs, size_t *count) {
 	size_t n = 0, k = 0, bytes;
 	uint32_t i;
@@ -22621,7 +22594,7 @@ PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cell
 	return PVS_OK;
 }
 
-/* Encodes bake (out NULL: measures). */
+/* Encodes bake (out NULL: measures) */
 PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t capacity, size_t *out_size,
 		pvs_error *err) {
 	pvs_file_desc fd;
@@ -22695,7 +22668,7 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 
 PVS__STATIC size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 
-/* LEB128 varint, <= 5 bytes. */
+/* LEB128 varint, <= 5 bytes */
 PVS__STATIC size_t pvs__put_varint(uint8_t *p, uint32_t v) {
 	size_t n = 0;
 	while (v >= 0x80u) {
@@ -22708,7 +22681,7 @@ PVS__STATIC size_t pvs__put_varint(uint8_t *p, uint32_t v) {
 PVS__STATIC size_t pvs__varint_size(uint32_t v) {
 	return v < (1u << 7) ? 1 : v < (1u << 14) ? 2 : v < (1u << 21) ? 3 : v < (1u << 28) ? 4 : 5;
 }
-/* Varint at p[0..end): bytes used, 0 if overlong, > 32 bits or cut off. */
+/* Varint at p[0..end): bytes used, 0: overlong, > 32 bits or cut off */
 PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_t *v) {
 	uint32_t r = 0;
 	size_t n;
@@ -22726,7 +22699,7 @@ PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_
 	}
 	return 0;
 }
-/* Varint validated by pvs_file_open. */
+/* Varint validated by pvs_file_open */
 PVS__STATIC const uint8_t *pvs__skip_varint(const uint8_t *p, uint32_t *v) {
 	uint32_t r = 0;
 	int s = 0;
@@ -22746,7 +22719,7 @@ PVS__STATIC const uint8_t *pvs__skip_varint(const uint8_t *p, uint32_t *v) {
 	return p;
 }
 
-/* Bit fields, LSB first, w <= 32; reader touches only bytes holding bits [pos, pos + w). */
+/* Bit fields, LSB first, w <= 32; reader touches only bytes holding bits [pos, pos + w) */
 PVS__STATIC void pvs__put_bits(uint8_t *s, uint64_t pos, uint32_t v, uint32_t w) {
 	uint32_t i;
 	for (i = 0; i < w; ++i)
@@ -22773,17 +22746,17 @@ PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z 
 /* ---- record coding: each bit of cell's PVS, in file's object order, by binary arithmetic coding (Witten, Neal and
    Cleary 1987; carryless 32-bit bounds as in Mahoney's PAQ) with file's fixed probability per context: bit in base cell
    (none for key), its neighbours there, bits just coded. 64-object word, and byte of changed one, equal to base's costs
-   one flag, so delta decodes in time of its changed bytes. ---- */
+   one flag: delta decodes in time of its changed bytes. ---- */
 
-/* Adaptive probability (compact bake's PVSs): 1/16 of way toward bit coded. */
+/* Adaptive probability (compact bake's PVSs): 1/16 of way toward bit coded */
 #define PVS__ADAPT(p, y) ((uint16_t)((y) ? (p) + ((4096u - (p)) >> 4) : (p) - ((p) >> 4u) + 0u))
 
 #define PVS__CTX_FLAG 64u /* after 64 bit contexts, 4 word flags (key, previous word changed), 4 byte flags */
 #define PVS__CTX_BYTE 68u
-/* Bit's context: key, base bit, previous bit and its base bit, next base bit, bit before previous. */
+/* Bit's context: key, base bit, previous bit and its base bit, next base bit, bit before previous */
 #define PVS__CTX(key, b, pc, pb, nb, pc2) ((key) | (b) << 1 | (pc) << 2 | (pb) << 3 | (nb) << 4 | (pc2) << 5)
 
-/* Object at position k of file's order. */
+/* Object at position k of file's order */
 PVS__STATIC uint32_t pvs__order_at(const pvs_file *f, uint32_t k) {
 	uint32_t w = f->private_.order_bits;
 	uint64_t at = (uint64_t)k * w;
@@ -22794,7 +22767,7 @@ PVS__STATIC uint32_t pvs__order_at(const pvs_file *f, uint32_t k) {
 }
 
 /* Applies record payload p[0..end) to bits in place: key (bits empty) or delta (bits: base's PVS). Any bytes give
-   some set of ids < object_count. learn: NULL, or adaptive probabilities instead of file's. */
+   some set of ids < object_count. learn: NULL, or adaptive probabilities instead of file's */
 PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint8_t *end, uint32_t key,
 		pvs_word *bits, uint16_t *learn) {
 	uint32_t n = f->object_count, words = (uint32_t)PVS_BITSET_WORDS(n), w, k, ch = 0, pc = 0, pb = 0, pc2 = 0, o, on;
@@ -22859,7 +22832,7 @@ PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint
 }
 
 #ifndef PVS_RUNTIME_ONLY /* bake's compact PVSs, encoder */
-/* Encoder: bytes to out (only counted if out NULL), or counts contexts. */
+/* Encoder: bytes to out (only counted if out NULL), or counts contexts */
 typedef struct pvs__ac {
 	uint32_t x1, x2;
 	uint8_t *out;
@@ -22873,7 +22846,7 @@ PVS__STATIC void pvs__ac_start(pvs__ac *a) {
 	PVS__ZERO(*a);
 	a->x2 = 0xffffffffu;
 }
-/* Codes bit y in context ctx (pvs__rec_decode's PVS__AC_GET mirrored). */
+/* Codes bit y in context ctx (pvs__rec_decode's PVS__AC_GET mirrored) */
 PVS__STATIC uint32_t pvs__ac_bit(pvs__ac *a, uint32_t ctx, uint32_t y) {
 	uint32_t mid;
 	if (a->counts) {
@@ -22895,9 +22868,9 @@ PVS__STATIC uint32_t pvs__ac_bit(pvs__ac *a, uint32_t ctx, uint32_t y) {
 
 /* ---- encoder */
 
-/* Compact bake's task PVS: coding byte, then pvs__set_write's body (re-running task replaces it). */
+/* Compact bake's task PVS: coding byte, then pvs__set_write's body (re-running task replaces it) */
 PVS__STATIC void pvs__rec_code(pvs__ac *a, const pvs_word *x, const pvs_word *y, uint32_t n);
-/* Compact bake's PVS of task: key record in id order, probabilities adapted as coded (re-running replaces it). */
+/* Compact bake's PVS of task: key record in id order, probabilities adapted as coded (re-running replaces it) */
 PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word *bits, pvs_error *err) {
 	uint16_t learn[PVS__CTX_COUNT];
 	uint8_t *p = NULL;
@@ -22945,7 +22918,7 @@ PVS__STATIC int pvs__heap_less(const void *pa, const void *pb) {
 	return a->from < b->from;
 }
 
-/* # of ascending t[0..n) below v (or_equal: not above): v's index if t holds it once. */
+/* # of ascending t[0..n) below v (or_equal: not above): v's index if t holds it once */
 PVS__STATIC uint32_t pvs__count_below(const float *t, uint32_t n, float v, int or_equal) {
 	uint32_t lo = 0, hi = n;
 	while (lo < hi) {
@@ -22958,8 +22931,8 @@ PVS__STATIC uint32_t pvs__count_below(const float *t, uint32_t n, float v, int o
 
 /* ---- stored cell look-up tree */
 
-/* File's look-up tree (manual's TREE), implicit: look-up reads a split per level, then a leaf; split rule never copies
-   touching neighbours. */
+/* File's look-up tree (manual's TREE), implicit: look-up reads split per level, then leaf; split rule never copies
+   touching neighbours */
 typedef struct pvs__tbuild {
 	const pvs_allocator *a;
 	const pvs_box *boxes;
@@ -22990,7 +22963,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 	if (n > 1) {
 		/* candidates: cell edges; binary search in sorted mins, maxes counts cells left (min < v, flat ones at v aside)
 		   and right (max > v); least larger side + 2 per cell on both wins, first on ties. Unlike medians this splits
-		   crossing cells; the price of copies made maps' TREE 7 to 22% smaller, look-up 3 to 16% faster. */
+		   crossing cells; price of copies made maps' TREE 7 to 22% smaller, look-up 3 to 16% faster */
 		float *mins = b->keys, *maxs = b->keys + n;
 		PVS__FOR3(axis) {
 			int side;
@@ -23015,7 +22988,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 					}
 				}
 		}
-		if (best_axis != 3) { /* exact counts (flat cells at split go left) must still progress */
+		if (best_axis != 3) { /* exact counts (flat cells at split go left) must progress */
 			uint32_t left = 0, right = 0;
 			for (i = 0; i < n; ++i) {
 				const pvs_box *c = b->boxes + ids[i];
@@ -23075,7 +23048,7 @@ typedef struct pvs__link {
 } pvs__link;
 
 
-/* All encoder allocates, freed in one place. */
+/* All encoder allocates, freed in one place */
 typedef struct pvs__encoder {
 	pvs_allocator a;
 	const pvs_file_desc *d;
@@ -23131,7 +23104,7 @@ PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
 	PVS__FREE_N(a, e->buf, 292 * e->words + 16);
 }
 
-/* Cell i's PVS: desc's table, or pvs_row's into slot 0 (record's cell) or 1 (its base), kept while it holds i. */
+/* Cell i's PVS: desc's table, or pvs_row's into slot 0 (record's cell) or 1 (its base), kept while it holds i */
 PVS__STATIC const pvs_word *pvs__encoder_row(pvs__encoder *e, uint32_t i, int slot) {
 	if (e->d->pvs) return e->d->pvs + (size_t)i * e->words;
 	if (e->row_of[slot] != i) {
@@ -23141,7 +23114,7 @@ PVS__STATIC const pvs_word *pvs__encoder_row(pvs__encoder *e, uint32_t i, int sl
 	return e->row[slot];
 }
 
-/* Cell i's PVS in file's object order, cached in slot (0: record's cell, 1: its base). */
+/* Cell i's PVS in file's object order, cached in slot (0: record's cell, 1: its base) */
 PVS__STATIC const pvs_word *pvs__encoder_prow(pvs__encoder *e, uint32_t i, int slot) {
 	pvs_word *p = e->prow + slot * e->words;
 	if (e->prow_of[slot] != i) {
@@ -23160,7 +23133,7 @@ PVS__STATIC const pvs_word *pvs__encoder_prow(pvs__encoder *e, uint32_t i, int s
 	}
 	return p;
 }
-/* Estimated record bytes of cell i against base j (PVS_NO_CELL: key): flag and bits of each changed word. */
+/* Estimated record bytes of cell i against base j (PVS_NO_CELL: key): flag, bits of each changed word */
 PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) {
 	const pvs_word *x = pvs__encoder_prow(e, i, 0), *y = j == PVS_NO_CELL ? NULL : pvs__encoder_prow(e, j, 1);
 	uint64_t bits = 24;
@@ -23174,9 +23147,9 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
 
 /* Bases: edges from each cell to its nearest (kD-tree sweep), virtual root joined to all at key size; Prim's tree from
    root, edge weighed on reach by delta's coded size + lambda per level of its base's depth, taken only while its chain
-   stays within K (greedy depth-bounded minimum arborescence); root's children are keys. Greedy chains run deep, leaving
+   stays within K (greedy depth-bounded minimum arborescence); root's children: keys. Greedy chains run deep, leaving
    later cells baseless; depth price keeps them short: of lambda 0, 2, 4, 8 bytes, tree of smallest coded sizes wins
-   (ties: lower). Coded sizes cached on edges. Deterministic ties: (weight, cell, base). */
+   (ties: lower). Coded sizes cached on edges. Deterministic ties: (weight, cell, base) */
 PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size);
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
 	const pvs_allocator *a = &e->a;
@@ -23254,7 +23227,7 @@ choose:
 	return PVS_OK;
 }
 
-/* One Prim tree of pvs__encoder_bases; lambda: bytes per level; key_size: cells' key sizes. Returns coded sizes. */
+/* One Prim tree of pvs__encoder_bases; lambda: bytes per level; key_size: cells' key sizes. Returns coded sizes */
 PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size) {
 	uint32_t i;
 	size_t heap_n = 0;
@@ -23293,7 +23266,7 @@ PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint
 	return total;
 }
 
-/* Codes cell row x against base row y (NULL: key), n positions, both in file's order (pvs__rec_decode's mirror). */
+/* Codes cell row x against base row y (NULL: key), n positions, both in file's order (pvs__rec_decode's mirror) */
 PVS__STATIC void pvs__rec_code(pvs__ac *a, const pvs_word *x, const pvs_word *y, uint32_t n) {
 	uint32_t words = (uint32_t)PVS_BITSET_WORDS(n), w, j, k, key = !y, ch = 0, pc = 0, pb = 0, pc2 = 0;
 	for (w = 0; w < words; ++w) {
@@ -23322,8 +23295,8 @@ PVS__STATIC void pvs__rec_code(pvs__ac *a, const pvs_word *x, const pvs_word *y,
 	}
 }
 
-/* Object order: greedy nearest-neighbour chain over objects' visibility on <= PVS__ORDER_SAMPLE cells, so objects
-   seen together sit side by side (deltas change few words); each step searches first PVS__ORDER_WINDOW unused. */
+/* Object order: greedy nearest-neighbour chain over objects' visibility on <= PVS__ORDER_SAMPLE cells: objects
+   seen together sit side by side (deltas change few words); each step searches first PVS__ORDER_WINDOW unused */
 PVS__STATIC pvs_result pvs__encoder_order(pvs__encoder *e, pvs_error *err) {
 	uint32_t s = (uint32_t)(((uint64_t)1 << 30) / e->n), sw, i, k, cur = 0; /* samples: <= 128 MB */
 	uint32_t *next = PVS__ALLOC_N(&e->a, uint32_t, (size_t)e->n + 1);
@@ -23373,7 +23346,7 @@ done:
 	return r;
 }
 
-/* Probabilities: counts over every record, Laplace-smoothed, 12 bits. */
+/* Probabilities: counts over every record, Laplace-smoothed, 12 bits */
 PVS__STATIC void pvs__encoder_model(pvs__encoder *e) {
 	uint32_t counts[2 * PVS__CTX_COUNT], i, k;
 	pvs__ac a;
@@ -23389,7 +23362,7 @@ PVS__STATIC void pvs__encoder_model(pvs__encoder *e) {
 	}
 }
 
-/* Writes RECS body (out NULL: measures). */
+/* Writes RECS body (out NULL: measures) */
 PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
 	uint32_t blocks = (e->cells + PVS__BLOCK - 1) / PVS__BLOCK, i;
 	size_t pos = 4 * ((size_t)blocks + 1);
@@ -23416,12 +23389,12 @@ PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
 	return pos;
 }
 
-/* MODL's size: head, probabilities, order. */
+/* MODL's size: head, probabilities, order */
 PVS__STATIC size_t pvs__encoder_model_size(const pvs__encoder *e) {
 	return PVS__MODL_HEAD + ((uint64_t)e->n * e->order_bits + 7) / 8;
 }
 
-/* Bases and model for identity order (reorder 0), greedy one (1: made, 2: as made before); *bytes: RECS + MODL. */
+/* Bases, model for identity order (reorder 0), greedy one (1: made, 2: as made before); *bytes: RECS + MODL */
 PVS__STATIC pvs_result pvs__encoder_plan(pvs__encoder *e, uint32_t max_chain, int reorder, size_t *bytes,
 		pvs_error *err) {
 	pvs_result r = PVS_OK;
@@ -23435,7 +23408,7 @@ PVS__STATIC pvs_result pvs__encoder_plan(pvs__encoder *e, uint32_t max_chain, in
 	return PVS_OK;
 }
 
-/* pvs_file_encode's checks, each with its error; *max_chain: K; *vocc_size: VOCC section size (0: none). */
+/* pvs_file_encode's checks, each with its error; *max_chain: K; *vocc_size: VOCC section size (0: none) */
 PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_chain, size_t *vocc_size,
 		pvs_error *err) {
 	pvs_result r;
@@ -23476,7 +23449,7 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 }
 
 /* Coarsest grid 2^e holding ascending table v (e: lowest set bit of any v's significand): base = v[0] / 2^e and steps g
-   < 2^16 (returns 16), else 255 (f32 table; also under 32 values, read fastest so). Exact: v = (base + g) 2^e. */
+   < 2^16 (returns 16), else 255 (f32 table; also under 32 values, read fastest so). Exact: v = (base + g) 2^e */
 PVS__STATIC uint32_t pvs__cell_grid(const float *v, uint32_t n, int32_t *base, int32_t *e) {
 	uint32_t i, u, m;
 	int32_t lo = 1000, x;
@@ -23499,7 +23472,7 @@ PVS__STATIC uint32_t pvs__cell_grid(const float *v, uint32_t n, int32_t *base, i
 	return top < 65536.0 && n >= 32 ? 16u : (*base = *e = 0, 255u); /* 16-bit steps where they save 64+ bytes */
 }
 
-/* CELL: cells (-0 as +0), per axis sorted distinct coordinates (e->values), index widths; *cell_bytes: its size. */
+/* CELL: cells (-0 as +0), per axis sorted distinct coordinates (e->values), index widths; *cell_bytes: its size */
 PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_bytes, pvs_error *err) {
 	const pvs_file_desc *d = e->d;
 	size_t index_bits_total, table_bytes = 0;
@@ -23541,7 +23514,7 @@ PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_by
 	return PVS_OK;
 }
 
-/* kD-tree over cells for base candidates; over centres if big overlapping cells would fill too many leaves. */
+/* kD-tree over cells for base candidates; over centres if big overlapping cells would fill too many leaves */
 PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	pvs_kdtree_desc td;
 	pvs_result r = PVS_OK;
@@ -23583,7 +23556,7 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	return r;
 }
 
-/* TREE: D = smallest depth giving leaves of ~PVS__TREE_LEAF cells. */
+/* TREE: D = smallest depth giving leaves of ~PVS__TREE_LEAF cells */
 PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err) {
 	pvs__tbuild tb;
 	pvs_result r;
@@ -23633,7 +23606,7 @@ PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err)
 	return PVS_OK;
 }
 
-/* Layout: manual's CELL. */
+/* Layout: manual's CELL */
 PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 	uint8_t *v, *bits;
 	uint64_t pos = 0;
@@ -23668,7 +23641,7 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 	}
 }
 
-/* Header and section table for `total` bytes of written sections: section CRC-32s, then header's. */
+/* Header, section table for `total` bytes of written sections: section CRC-32s, then header's */
 PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t flags, uint32_t sections,
 		const uint32_t *tags, const size_t *at, const size_t *sz) {
 	uint32_t k, crc;
@@ -23689,7 +23662,7 @@ PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t fl
 	pvs__put32(o + 20, crc);
 }
 
-/* NAME's size (FILE FORMAT), 0 without names, SIZE_MAX if offsets would pass 4 GiB. */
+/* NAME's size (FILE FORMAT), 0 without names, SIZE_MAX if offsets would pass 4 GiB */
 PVS__STATIC size_t pvs__names_size(const pvs_file_desc *d) {
 	size_t n = 4 + 4 * (size_t)d->object_count, i;
 	if (!d->object_names) return 0;
@@ -23859,7 +23832,7 @@ done:
 
 /* ---- reader */
 
-/* Located record (opened files only). */
+/* Located record (opened files only) */
 typedef struct pvs__rec {
 	const uint8_t *start, *body, *end; /* body: coded bits */
 	uint32_t base;
@@ -23880,14 +23853,14 @@ PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
 	r->base = zz ? (uint32_t)((int64_t)cell - pvs__unzigzag(zz)) : PVS_NO_CELL;
 }
 
-/* w bits at bit pos of s (one 64-bit read when s[pos / 8 + 7] before end). */
+/* w bits at bit pos of s (one 64-bit read when s[pos / 8 + 7] before end) */
 PVS__STATIC uint32_t pvs__bits_at(const uint8_t *s, uint64_t pos, uint32_t w, const uint8_t *end) {
 	if (w && (size_t)(end - s) >= (size_t)(pos >> 3) + 8)
 		return (uint32_t)((pvs__load64(s + (size_t)(pos >> 3)) >> (pos & 7u)) & (((uint64_t)1 << w) - 1u));
 	return pvs__get_bits(s, pos, w);
 }
 
-/* Coordinate i of CELL's table k: f32, or (base + g) 2^e, g 16 bits (in float where exact). */
+/* Coordinate i of CELL's table k: f32, or (base + g) 2^e, g 16 bits (in float where exact) */
 PVS__STATIC float pvs__cell_value(const pvs_file *f, uint32_t k, uint32_t i) {
 	const uint8_t *t = f->private_.values[k];
 	int32_t m;
@@ -23967,7 +23940,7 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 	return PVS_OK;
 }
 
-/* TREE, per manual. Splits and axes lie apart: level costs one dependent load. */
+/* TREE, per manual. Splits and axes lie apart: level costs one dependent load */
 PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size,
 		pvs_error *err) {
 	uint64_t off = (uint64_t)(t - base), need;
@@ -24028,8 +24001,8 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 	return PVS_OK;
 }
 
-/* RECS: each record's structure, then chains: from every cell <= max_chain bases reach key, so none cycles and decoding
-   applies <= max_chain deltas. Linear in section (n K record look-ups). */
+/* RECS: each record's structure, then chains: from every cell <= max_chain bases reach key: none cycles and decoding
+   applies <= max_chain deltas. Linear in section (n K record look-ups) */
 PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size,
 		pvs_error *err) {
 	uint64_t off = (uint64_t)(rs - base);
@@ -24085,7 +24058,7 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 }
 
 /* MODL: context count, order width (0 or bits for object_count - 1), probabilities 1..4095, order's ids < object count;
-   unused bits 0. Repeated id only garbles PVSs, as any payload can. */
+   unused bits 0. Repeated id only garbles PVSs, as any payload can */
 PVS__STATIC pvs_result pvs__open_model(pvs_file *f, const uint8_t *base, const uint8_t *m, uint32_t size,
 		pvs_error *err) {
 	uint64_t off = (uint64_t)(m - base), nbits;
@@ -24118,13 +24091,13 @@ PVS__STATIC pvs_result pvs__open_model(pvs_file *f, const uint8_t *base, const u
 	return PVS_OK;
 }
 
-/* Sections pvs_file_open knows, as table places them (NULL: absent). */
+/* Sections pvs_file_open knows, as table places them (NULL: absent) */
 typedef struct pvs__open_sections {
 	const uint8_t *meta, *cells, *tree, *recs, *modl, *shrd, *vocc, *scne, *name;
 	uint32_t meta_size, cells_size, tree_size, recs_size, modl_size, shrd_size, vocc_size, scne_size, name_size;
 } pvs__open_sections;
 
-/* Checked in format table's order; *count_out: section count. */
+/* Checked in format table's order; *count_out: section count */
 PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t *count_out, pvs_error *err) {
 	uint32_t count, crc;
 	if (size < 4 || memcmp(p, "PVS\x1a", 4) != 0)
@@ -24156,7 +24129,7 @@ PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t 
 	return PVS_OK;
 }
 
-/* Section table, rules as in manual; known tags into *sec. */
+/* Section table, rules as in manual; known tags into *sec */
 PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t count, pvs__open_sections *sec,
 		pvs_error *err) {
 	uint32_t i, j;
@@ -24193,7 +24166,7 @@ PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t c
 	return PVS_OK;
 }
 
-/* Bytes outside header, table, sections must be 0: each byte of valid file is checksummed or fixed. */
+/* Bytes outside header, table, sections must be 0: each byte of valid file is checksummed or fixed */
 PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t count, pvs_error *err) {
 	uint32_t order[PVS__MAX_SECTIONS], i, j, k;
 	size_t pos = PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY;
@@ -24216,7 +24189,7 @@ PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t
 	return PVS_OK;
 }
 
-/* META (32 bytes) into f, checked in format table's order. */
+/* META (32 bytes) into f, checked in format table's order */
 PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8_t *meta, uint32_t meta_size,
 		pvs_error *err) {
 	uint64_t mo = (uint64_t)(meta - p);
@@ -24251,7 +24224,7 @@ PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8
 	return PVS_OK;
 }
 
-/* SHRD (16 bytes) into f: part of cell_count cells of sharded bake. */
+/* SHRD (16 bytes) into f: part of cell_count cells of sharded bake */
 PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint8_t *shrd, uint32_t shrd_size,
 		pvs_error *err) {
 	uint64_t so = (uint64_t)(shrd - p);
@@ -24268,7 +24241,7 @@ PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint
 	return PVS_OK;
 }
 
-/* NAME (FILE FORMAT): object_count ascending end offsets, each name's last byte its only zero. Linear time. */
+/* NAME (FILE FORMAT): object_count ascending end offsets, each name's last byte its only zero. Linear time */
 PVS__STATIC pvs_result pvs__open_names(pvs_file *f, const uint8_t *p, const uint8_t *sec, uint32_t size,
 		pvs_error *err) {
 	uint64_t at = (uint64_t)(sec - p), head = 4 + 4 * (uint64_t)f->object_count;
@@ -24320,7 +24293,7 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 		r = pvs__open_shard(f, p, sec.shrd, sec.shrd_size, err);
 		if (r != PVS_OK) return r;
 	}
-	/* records first: 3+ bytes each, so valid RECS bound cell count by file size, cell checks stay linear (indices can
+	/* records first: 3+ bytes each: valid RECS bound cell count by file size, cell checks stay linear (indices can
 	   be 0 bits wide) */
 	f->private_.records = sec.recs;
 	f->private_.records_size = sec.recs_size;
@@ -24360,7 +24333,7 @@ PVS_API void pvs_file_get_record_info(const pvs_file *f, uint32_t cell, pvs_reco
 // >>runtime
 /* ==== runtime: cell look-up via stored kD-tree, decoding, cursor; no allocation ==== */
 
-/* Cell c's coordinate indices, min then max per axis (one 64-bit read when 6 fit). */
+/* Cell c's coordinate indices, min then max per axis (one 64-bit read when 6 fit) */
 PVS__STATIC void pvs__cell_indices(const pvs_file *f, uint32_t c, uint32_t idx[6]) {
 	uint64_t pos = (uint64_t)c * f->private_.cell_bits;
 	int k;
@@ -24397,7 +24370,7 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 	return b;
 }
 
-/* pvs__cell_value written out for look-up's inner loop (GCC leaves call in a unit this size). */
+/* pvs__cell_value written out for look-up's inner loop (GCC leaves call in a unit this size) */
 #define PVS__CELL_V(f, k, i) \
 	((f)->private_.value_bits[k] == 255u ? pvs__getf32((f)->private_.values[k] + 4 * (size_t)(i)) \
 	 : (f)->private_.value_step[k] != 0.0f \
@@ -24407,7 +24380,7 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 			   (f)->private_.value_step[k] \
 		 : pvs__cell_value(f, k, i))
 
-/* Look-up's inner loop, pvs__cell_indices' fast path inlined: cell c's closed box holds p. */
+/* Look-up's inner loop, pvs__cell_indices' fast path inlined: cell c's closed box holds p */
 PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[3]) {
 	uint32_t idx[6], k;
 	uint64_t pos = (uint64_t)c * f->private_.cell_bits;
@@ -24445,7 +24418,7 @@ PVS_API uint32_t pvs_file_find_object(const pvs_file *f, const char *name) {
 	return PVS_NO_OBJECT;
 }
 
-/* Point location, manual's TREE rule (p == split: stack no deeper than tree); lowest containing cell wins. */
+/* Point location, manual's TREE rule (p == split: stack no deeper than tree); lowest containing cell wins */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
 	uint32_t stack[PVS__TREE_MAX_DEPTH + 1], depth = 0, best = PVS_NO_CELL, k = 0, d, inner, ow;
 	const uint8_t *nodes, *starts, *axes, *items;
