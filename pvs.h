@@ -1,4 +1,4 @@
-/* pvs.h - v0.15.1 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.15.2 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -139,7 +139,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 15
-#define PVS_VERSION_PATCH 1
+#define PVS_VERSION_PATCH 2
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -15556,9 +15556,10 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
    its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles), not explicit occluder volumes
    (rays pass them) nor one around all else (sky box). BSP on their face planes (q3map2's BuildTree) has leaves in solid
    or outside all: empty ones: rooms. Planes closer than input's float resolution are one (PVS__PO_NORMAL_EPS,
-   PVS__PO_DIST_EPS x scene size). Portal: empty leaf's face with empty leaf beyond, pushed down tree, split by
-   straddled planes (Teller 1992 §3.3), both ways (pvs__po_mirror). Segment between rooms missing all solids crosses
-   portals of leaves it passes, in order. Other triangles block nothing here.
+   PVS__PO_DIST_EPS x scene size); a solid they push past its mesh is cut back (pvs__po_fit), a split piece past its
+   fragment's box dropped. Portal: empty leaf's face with empty leaf beyond, pushed down tree, split by straddled
+   planes (Teller 1992 §3.3), both ways (pvs__po_mirror). Segment between rooms missing all solids crosses portals of
+   leaves it passes, in order. Other triangles block nothing here.
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): segment from x in view cell C through portals P1
    .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: lines' source is C_j, C clipped to that
@@ -15667,9 +15668,9 @@ PVS__STATIC int pvs__po_axis(const double *n) {
 	return fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
 }
 
-/* Table id of plane n.x = d (n unit): existing one within epsilons, or new pair; PVS__PO_NONE: OOM */
-PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) {
-	double de = PVS__PO_DIST_EPS * p->ext, nn[3];
+/* Table id of plane n.x = d (n unit): existing one within epsilons (unless exact), or new pair; PVS__PO_NONE: OOM */
+PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d, int exact) {
+	double de = exact ? 0.0 : PVS__PO_DIST_EPS * p->ext, nn[3];
 	double q = fabs(d) / (1e-3 * p->ext);
 	uint32_t pair, k, a;
 	int b;
@@ -15964,30 +15965,89 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 		const uint32_t *t = s->indices + 3 * (size_t)tris[i];
 		const float *a = s->positions + 3 * (size_t)t[0], *b = s->positions + 3 * (size_t)t[1],
 					*c = s->positions + 3 * (size_t)t[2];
-		double e1[3], e2[3], nn[3], d, len, size = 1e6 * tolc;
-		PVS__FOR3(k) {
-			e1[k] = (double)b[k] - a[k];
-			e2[k] = (double)c[k] - a[k];
-		}
-		nn[0] = sign * (e1[1] * e2[2] - e1[2] * e2[1]);
-		nn[1] = sign * (e1[2] * e2[0] - e1[0] * e2[2]);
-		nn[2] = sign * (e1[0] * e2[1] - e1[1] * e2[0]);
-		len = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+		double nn[3], d, size = 1e6 * tolc, len = pvs__tri_cross(a, b, c, nn);
 		if (!(len > 1e-12 * size * size)) continue; /* sliver: edges still counted */
-		PVS__FOR3(k) nn[k] /= len;
+		PVS__FOR3(k) nn[k] = sign * nn[k] / len;
 		d = -(nn[0] * a[0] + nn[1] * a[1] + nn[2] * a[2]);
 		for (j = 0; j < n; ++j)
 			PVS__FOR3(k) {
 				const float *v = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[j] + k];
 				if (nn[0] * v[0] + nn[1] * v[1] + nn[2] * v[2] + d > tolc) return 0;
 			}
-		planes[np] = pvs__po_plane(p, nn, -d);
+		planes[np] = pvs__po_plane(p, nn, -d, 0);
 		if (planes[np] == PVS__PO_NONE) return 0;
 		for (j = 0; j < np && planes[j] != planes[np]; ++j) {
 		}
 		np += j == np;
 	}
 	return np >= 4 ? np : 0;
+}
+
+/* Point of triangle a b c nearest x into y (Ericson 2005, "Real-Time Collision Detection", 5.1.5: Voronoi regions) */
+PVS__STATIC void pvs__tri_nearest(const double *x, const float *a, const float *b, const float *c, double *y) {
+	double ab[3], ac[3], d[6], va, vb, vc, v = 0.0, w = 0.0;
+	int k;
+	PVS__FOR3(k) ab[k] = (double)b[k] - a[k], ac[k] = (double)c[k] - a[k];
+	for (k = 0; k < 6; ++k) { /* d1..d6: ab, ac against x - a, x - b, x - c */
+		const float *o = k < 2 ? a : k < 4 ? b : c;
+		const double *e = k % 2 ? ac : ab;
+		d[k] = e[0] * (x[0] - o[0]) + e[1] * (x[1] - o[1]) + e[2] * (x[2] - o[2]);
+	}
+	vc = d[0] * d[3] - d[2] * d[1];
+	vb = d[4] * d[1] - d[0] * d[5];
+	va = d[2] * d[5] - d[4] * d[3];
+	if (d[0] <= 0.0 && d[1] <= 0.0) v = 0.0;
+	else if (d[2] >= 0.0 && d[3] <= d[2]) v = 1.0;
+	else if (d[5] >= 0.0 && d[4] <= d[5]) w = 1.0;
+	else if (vc <= 0.0 && d[0] >= 0.0 && d[2] <= 0.0) v = d[0] / (d[0] - d[2]);
+	else if (vb <= 0.0 && d[1] >= 0.0 && d[5] <= 0.0) w = d[1] / (d[1] - d[5]);
+	else if (va <= 0.0 && d[3] >= d[2] && d[4] >= d[5])
+		w = (d[3] - d[2]) / ((d[3] - d[2]) + (d[4] - d[5])), v = 1.0 - w;
+	else if (va + vb + vc > 0.0) v = vb / (va + vb + vc), w = vc / (va + vb + vc);
+	PVS__FOR3(k) y[k] = a[k] + v * ab[k] + w * ac[k];
+}
+
+/* Fits solid *q of planes[0..*np) into its mesh tris[0..n): snapped planes meeting at a sharp edge cross past it (by
+   offset / sine of the angle; Freedoom 2 MAP25: 0.1). A vertex of *q over 4 eps from the mesh, in front of a triangle,
+   is cut by a cap: plane eps past its nearest mesh point y, normal from y (new, exact; the mesh, convex, is behind it:
+   checked). 1: fits (or empty); 0: cannot (*q empty); -1: OOM */
+PVS__STATIC int pvs__po_fit(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n, uint32_t *planes,
+		uint32_t *np, pvs__po_poly *q, pvs__po_wind *scratch, uint32_t *kept) {
+	uint32_t r, a, j, k, out;
+	double c[3] = {0, 0, 0}, T = 16.0 * p->eps * p->eps, far, y[3], x[3], u[3], w[3], nn[3], z[3], zb[3], d;
+#define PVS__PO_V(j) (s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[(j) / 3] + (j) % 3])
+	for (j = 0; j < 3 * n; ++j) PVS__FOR3(k) c[k] += PVS__PO_V(j)[k] / (3.0 * n);
+	for (r = 0;; ++r) {
+		if (!pvs__po_poly_from_planes(p, planes, *np, q, scratch, kept)) return -1;
+		for (far = T, a = 0; a < q->vert_count; ++a) {
+			double best = DBL_MAX;
+			for (j = 0; j < 3 * n && best > T; ++j) { /* near mesh vertex (most): fits */
+				PVS__FOR3(k) u[k] = q->v[a][k] - PVS__PO_V(j)[k];
+				best = pvs__dmin(best, pvs__sv_dot(u, u));
+			}
+			for (out = 0, j = 0, best = best > T ? DBL_MAX : 0.0; best > far && j < 3 * n; j += 3) {
+				pvs__tri_nearest(q->v[a], PVS__PO_V(j), PVS__PO_V(j + 1), PVS__PO_V(j + 2), z);
+				pvs__tri_cross(PVS__PO_V(j), PVS__PO_V(j + 1), PVS__PO_V(j + 2), nn);
+				PVS__FOR3(k) u[k] = q->v[a][k] - z[k], w[k] = c[k] - z[k];
+				d = pvs__sv_dot(u, u);
+				out |= pvs__sv_dot(nn, u) * pvs__sv_dot(nn, w) < 0.0;
+				if (d <= best) best = d, memcpy(zb, z, sizeof(z));
+			}
+			if (out && best > far) far = best, memcpy(y, zb, sizeof(y)), memcpy(x, q->v[a], sizeof(x));
+		}
+		if (far == T) return 1;
+		pvs__po_poly_free(&p->allocator, q);
+		if (r == 8 || *np >= PVS__PO_MAX_FACES) return 0;
+		far = sqrt(far);
+		PVS__FOR3(k) nn[k] = (x[k] - y[k]) / far;
+		d = pvs__sv_dot(nn, y) + p->eps;
+		for (j = 0; j < 3 * n; ++j) {
+			PVS__FOR3(k) u[k] = PVS__PO_V(j)[k];
+			if (pvs__sv_dot(nn, u) > d) return 0;
+		}
+		if ((planes[(*np)++] = pvs__po_plane(p, nn, d, 1)) == PVS__PO_NONE) return -1;
+	}
+#undef PVS__PO_V
 }
 
 /* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle. Triangles join if they share
@@ -16056,7 +16116,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 		if (n > PVS__PO_MAX_FACES || n < 4) continue;
 		np = pvs__po_convex(p, s, canon, tris, n, edges, planes);
 		if (!np) continue;
-		if (!pvs__po_poly_from_planes(p, planes, np, &q, scratch, kept) ||
+		if (pvs__po_fit(p, s, tris, n, planes, &np, &q, scratch, kept) < 0 ||
 			(q.face_count && !pvs__grow(al, (void **)frags, cap, *count + 1, sizeof(pvs__po_poly)))) {
 			pvs__po_poly_free(al, &q);
 			goto done;
@@ -16185,11 +16245,17 @@ PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint3
 							 : pvs__po_side(f + i, p->pl[2 * pair], p->eps);
 		if (side == 1) part[0][count[0]++] = f[i];
 		else if (side == -1) part[1][count[1]++] = f[i];
-		else {
-			pvs__po_poly a, c;
-			if (side == 0 && !pvs__po_poly_split(p, f + i, 2 * pair, &a, &c, b->scratch, b->planes)) b->oom = 1;
-			if (side == 0 && a.face_count) part[0][count[0]++] = a;
-			if (side == 0 && c.face_count) part[1][count[1]++] = c;
+		else { /* a piece past f[i]'s box lost faces to eps (a sliver), so is unbounded: dropped (less solid) */
+			pvs__po_poly h[2];
+			pvs_box fb = pvs__po_poly_box(f + i);
+			uint32_t s, v, k, in;
+			if (side == 0 && !pvs__po_poly_split(p, f + i, 2 * pair, h, h + 1, b->scratch, b->planes)) b->oom = 1;
+			for (s = 0; side == 0 && s < 2; ++s) {
+				for (in = 1, v = 0; v < h[s].vert_count; ++v)
+					PVS__FOR3(k) in &= h[s].v[v][k] >= fb.min[k] - p->eps && h[s].v[v][k] <= fb.max[k] + p->eps;
+				if (h[s].face_count && in) part[s][count[s]++] = h[s];
+				else pvs__po_poly_free(al, h + s);
+			}
 			pvs__po_poly_free(al, f + i);
 		}
 	}
@@ -17025,7 +17091,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	for (k = 0; k < 6; ++k) { /* root box: 1/100 of size beyond scene and cells */
 		double n[3] = {0, 0, 0};
 		n[k % 3] = k < 3 ? -1.0 : 1.0;
-		bound[k] = pvs__po_plane(p, n, k < 3 ? 0.01 * p->ext - box.min[k] : box.max[k - 3] + 0.01 * p->ext);
+		bound[k] = pvs__po_plane(p, n, k < 3 ? 0.01 * p->ext - box.min[k] : box.max[k - 3] + 0.01 * p->ext, 0);
 		if (bound[k] == PVS__PO_NONE) goto done;
 	}
 	p->bound_pairs = (uint32_t)(p->plane_count / 2);
@@ -24579,7 +24645,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.15.1 (2026-12-01) PORTAL: portals missing on one side of nearly coincident planes are mirrored.
+   0.15.2 (2026-12-01) PORTAL: solids cut back where snapped planes met past their mesh; bogus split pieces dropped.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.
