@@ -1,4 +1,4 @@
-/* pvs.h - v0.15.2 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.15.3 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -139,7 +139,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 15
-#define PVS_VERSION_PATCH 2
+#define PVS_VERSION_PATCH 3
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -15556,8 +15556,8 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
    its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles), not explicit occluder volumes
    (rays pass them) nor one around all else (sky box). BSP on their face planes (q3map2's BuildTree) has leaves in solid
    or outside all: empty ones: rooms. Planes closer than input's float resolution are one (PVS__PO_NORMAL_EPS,
-   PVS__PO_DIST_EPS x scene size); a solid they push past its mesh is cut back (pvs__po_fit), a split piece past its
-   fragment's box dropped. Portal: empty leaf's face with empty leaf beyond, pushed down tree, split by straddled
+   PVS__PO_DIST_EPS x scene size); a solid they push far past its mesh is left out (pvs__po_fit), a split piece past
+   its fragment's box dropped. Portal: empty leaf's face with empty leaf beyond, pushed down tree, split by straddled
    planes (Teller 1992 §3.3), both ways (pvs__po_mirror). Segment between rooms missing all solids crosses portals of
    leaves it passes, in order. Other triangles block nothing here.
 
@@ -15668,9 +15668,9 @@ PVS__STATIC int pvs__po_axis(const double *n) {
 	return fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
 }
 
-/* Table id of plane n.x = d (n unit): existing one within epsilons (unless exact), or new pair; PVS__PO_NONE: OOM */
-PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d, int exact) {
-	double de = exact ? 0.0 : PVS__PO_DIST_EPS * p->ext, nn[3];
+/* Table id of plane n.x = d (n unit): existing one within epsilons, or new pair; PVS__PO_NONE: OOM */
+PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) {
+	double de = PVS__PO_DIST_EPS * p->ext, nn[3];
 	double q = fabs(d) / (1e-3 * p->ext);
 	uint32_t pair, k, a;
 	int b;
@@ -15974,7 +15974,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 				const float *v = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[j] + k];
 				if (nn[0] * v[0] + nn[1] * v[1] + nn[2] * v[2] + d > tolc) return 0;
 			}
-		planes[np] = pvs__po_plane(p, nn, -d, 0);
+		planes[np] = pvs__po_plane(p, nn, -d);
 		if (planes[np] == PVS__PO_NONE) return 0;
 		for (j = 0; j < np && planes[j] != planes[np]; ++j) {
 		}
@@ -16007,46 +16007,39 @@ PVS__STATIC void pvs__tri_nearest(const double *x, const float *a, const float *
 	PVS__FOR3(k) y[k] = a[k] + v * ab[k] + w * ac[k];
 }
 
-/* Fits solid *q of planes[0..*np) into its mesh tris[0..n): snapped planes meeting at a sharp edge cross past it (by
-   offset / sine of the angle; Freedoom 2 MAP25: 0.1). A vertex of *q over 4 eps from the mesh, in front of a triangle,
-   is cut by a cap: plane eps past its nearest mesh point y, normal from y (new, exact; the mesh, convex, is behind it:
-   checked). 1: fits (or empty); 0: cannot (*q empty); -1: OOM */
-PVS__STATIC int pvs__po_fit(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n, uint32_t *planes,
-		uint32_t *np, pvs__po_poly *q, pvs__po_wind *scratch, uint32_t *kept) {
-	uint32_t r, a, j, k, out;
-	double c[3] = {0, 0, 0}, T = 16.0 * p->eps * p->eps, far, y[3], x[3], u[3], w[3], nn[3], z[3], zb[3], d;
+/* Builds solid *q of planes[0..np) and checks it against its mesh tris[0..n): faces snapped to the plane table move
+   by the snap s, and where two meet at a sharp edge their meeting line moves by s / sine of the angle (Freedoom 2
+   MAP25: a 0.4-degree needle's tip 1.6e-4 past its mesh cut a grazing ray). A vertex of *q over 4 eps from the mesh
+   and over 16 times as far as its farthest face plane (snap magnified past an edge under 7 degrees) refuses the solid
+   (less solid: conservative; a cap plane, new and exact, lay near other planes and cost rays). 1: kept (or empty);
+   0: refused (*q empty); -1: OOM */
+PVS__STATIC int pvs__po_fit(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n,
+		const uint32_t *planes, uint32_t np, pvs__po_poly *q, pvs__po_wind *scratch, uint32_t *kept) {
+	uint32_t a, j, k;
+	double c[3] = {0, 0, 0}, T = 16.0 * p->eps * p->eps, u[3], nn[3], z[3], d, len, best, m;
 #define PVS__PO_V(j) (s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[(j) / 3] + (j) % 3])
+	if (!pvs__po_poly_from_planes(p, planes, np, q, scratch, kept)) return -1;
 	for (j = 0; j < 3 * n; ++j) PVS__FOR3(k) c[k] += PVS__PO_V(j)[k] / (3.0 * n);
-	for (r = 0;; ++r) {
-		if (!pvs__po_poly_from_planes(p, planes, *np, q, scratch, kept)) return -1;
-		for (far = T, a = 0; a < q->vert_count; ++a) {
-			double best = DBL_MAX;
-			for (j = 0; j < 3 * n && best > T; ++j) { /* near mesh vertex (most): fits */
-				PVS__FOR3(k) u[k] = q->v[a][k] - PVS__PO_V(j)[k];
-				best = pvs__dmin(best, pvs__sv_dot(u, u));
-			}
-			for (out = 0, j = 0, best = best > T ? DBL_MAX : 0.0; best > far && j < 3 * n; j += 3) {
-				pvs__tri_nearest(q->v[a], PVS__PO_V(j), PVS__PO_V(j + 1), PVS__PO_V(j + 2), z);
-				pvs__tri_cross(PVS__PO_V(j), PVS__PO_V(j + 1), PVS__PO_V(j + 2), nn);
-				PVS__FOR3(k) u[k] = q->v[a][k] - z[k], w[k] = c[k] - z[k];
-				d = pvs__sv_dot(u, u);
-				out |= pvs__sv_dot(nn, u) * pvs__sv_dot(nn, w) < 0.0;
-				if (d <= best) best = d, memcpy(zb, z, sizeof(z));
-			}
-			if (out && best > far) far = best, memcpy(y, zb, sizeof(y)), memcpy(x, q->v[a], sizeof(x));
+	for (a = 0; a < q->vert_count; ++a) {
+		for (best = DBL_MAX, j = 0; j < 3 * n && best > T; ++j) { /* near mesh vertex (most): fits */
+			PVS__FOR3(k) u[k] = q->v[a][k] - PVS__PO_V(j)[k];
+			best = pvs__dmin(best, pvs__sv_dot(u, u));
 		}
-		if (far == T) return 1;
-		pvs__po_poly_free(&p->allocator, q);
-		if (r == 8 || *np >= PVS__PO_MAX_FACES) return 0;
-		far = sqrt(far);
-		PVS__FOR3(k) nn[k] = (x[k] - y[k]) / far;
-		d = pvs__sv_dot(nn, y) + p->eps;
-		for (j = 0; j < 3 * n; ++j) {
-			PVS__FOR3(k) u[k] = PVS__PO_V(j)[k];
-			if (pvs__sv_dot(nn, u) > d) return 0;
+		for (m = 0.0, j = 0; best > T && j < 3 * n; j += 3) {
+			pvs__tri_nearest(q->v[a], PVS__PO_V(j), PVS__PO_V(j + 1), PVS__PO_V(j + 2), z);
+			PVS__FOR3(k) u[k] = q->v[a][k] - z[k];
+			best = pvs__dmin(best, pvs__sv_dot(u, u));
+			len = pvs__tri_cross(PVS__PO_V(j), PVS__PO_V(j + 1), PVS__PO_V(j + 2), nn);
+			PVS__FOR3(k) u[k] = q->v[a][k] - PVS__PO_V(j)[k], z[k] = c[k] - PVS__PO_V(j)[k];
+			d = pvs__sv_dot(nn, u) * (pvs__sv_dot(nn, z) > 0.0 ? -1.0 : 1.0);
+			if (len > 0.0) m = pvs__dmax(m, d / len);
 		}
-		if ((planes[(*np)++] = pvs__po_plane(p, nn, d, 1)) == PVS__PO_NONE) return -1;
+		if (best > T && m > 0.0 && best > 256.0 * m * m) {
+			pvs__po_poly_free(&p->allocator, q);
+			return 0;
+		}
 	}
+	return 1;
 #undef PVS__PO_V
 }
 
@@ -16116,7 +16109,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 		if (n > PVS__PO_MAX_FACES || n < 4) continue;
 		np = pvs__po_convex(p, s, canon, tris, n, edges, planes);
 		if (!np) continue;
-		if (pvs__po_fit(p, s, tris, n, planes, &np, &q, scratch, kept) < 0 ||
+		if (pvs__po_fit(p, s, tris, n, planes, np, &q, scratch, kept) < 0 ||
 			(q.face_count && !pvs__grow(al, (void **)frags, cap, *count + 1, sizeof(pvs__po_poly)))) {
 			pvs__po_poly_free(al, &q);
 			goto done;
@@ -17091,7 +17084,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	for (k = 0; k < 6; ++k) { /* root box: 1/100 of size beyond scene and cells */
 		double n[3] = {0, 0, 0};
 		n[k % 3] = k < 3 ? -1.0 : 1.0;
-		bound[k] = pvs__po_plane(p, n, k < 3 ? 0.01 * p->ext - box.min[k] : box.max[k - 3] + 0.01 * p->ext, 0);
+		bound[k] = pvs__po_plane(p, n, k < 3 ? 0.01 * p->ext - box.min[k] : box.max[k - 3] + 0.01 * p->ext);
 		if (bound[k] == PVS__PO_NONE) goto done;
 	}
 	p->bound_pairs = (uint32_t)(p->plane_count / 2);
@@ -24645,7 +24638,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.15.2 (2026-12-01) PORTAL: solids cut back where snapped planes met past their mesh; bogus split pieces dropped.
+   0.15.3 (2026-12-02) PORTAL: a solid whose snapped planes meet far past its mesh is left out, not capped.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.
