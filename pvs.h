@@ -16010,9 +16010,9 @@ PVS__STATIC void pvs__tri_nearest(const double *x, const float *a, const float *
 /* Builds solid *q of planes[0..np) and checks it against its mesh tris[0..n): faces snapped to the plane table move
    by the snap s, and where two meet at a sharp edge their meeting line moves by s / sine of the angle (Freedoom 2
    MAP25: a 0.4-degree needle's tip 1.6e-4 past its mesh cut a grazing ray). A vertex of *q over 4 eps from the mesh
-   and over 16 times as far as its farthest face plane (snap magnified past an edge under 7 degrees) refuses the solid
-   (less solid: conservative; a cap plane, new and exact, lay near other planes and cost rays). 1: kept (or empty);
-   0: refused (*q empty); -1: OOM */
+   and over 16 times as far as its farthest face plane (a snap magnified past an edge under 4 to 7 degrees) refuses
+   the solid (less solid: conservative; a cap plane, new and exact, lay near other planes and cost rays). 1: kept
+   (or empty); 0: refused (*q empty); -1: OOM */
 PVS__STATIC int pvs__po_fit(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n,
 		const uint32_t *planes, uint32_t np, pvs__po_poly *q, pvs__po_wind *scratch, uint32_t *kept) {
 	uint32_t a, j, k;
