@@ -2605,16 +2605,18 @@ static int po_fit_inside(const pvs_scene *s, uint32_t t0, uint32_t t1, const dou
 /* pvs__po_fit: a box, then a needle (a prism 10 high over a wedge of 0.06 to 5.7 degrees, 10 to 50 long) whose long
    face leans from the box's face y = 0 by -8e-7 to 8e-7: its plane snaps to the box's, and the snapped planes of the
    needle meet up to 0.004 past its tip (as Freedoom 2 MAP25's void prisms, 1.6e-4 there). Every vertex of every solid
-   kept lies near its mesh (po_fit_inside); the needles that stick out are refused, the box never. */
+   kept lies near its mesh (po_fit_inside); the needles that stick out are refused, the box and wide wedges never
+   (half of them stick out over 4 eps, unmagnified, as the 126 brushes 0.15.2 capped on czest2ctf: a rule on the
+   distance alone refuses 49 of 100). */
 static void test_portal_fit(void) {
     uint64_t st = 2026;
-    uint32_t run, refused = 0, outside = 0;
-    for (run = 0; run < 300; ++run) {
+    uint32_t run, refused = 0, outside = 0, wide_refused = 0;
+    for (run = 0; run < 400; ++run) { /* from 300 on, wedges of 17 to 45 degrees: ordinary sloped brushes */
         static const uint32_t tri[8][3] = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {2, 0, 3}, {2, 3, 5}};
         float pos[3 * 14], lo[3] = {-10, -10, 0}, hi[3] = {60, 0, 10};
         uint32_t idx[3 * 20], vc = 0, tc = 0, i, k, f;
         double t = (test_rnd(&st) * 2 - 1) * 8e-7, len = 10 + 40 * test_rnd(&st), w = 0.05 + 0.95 * test_rnd(&st);
-        double x0 = 5 * test_rnd(&st), plan[3][2];
+        double x0 = 5 * test_rnd(&st), plan[3][2], wide = run >= 300 ? len * (0.3 + 0.7 * test_rnd(&st)) : 0;
         pvs_object_desc obj = {0, 20, 0};
         pvs_scene *s;
         pvs__poprep p;
@@ -2622,7 +2624,7 @@ static void test_portal_fit(void) {
         pvs__po_poly *frags = NULL;
         size_t cap = 0, count = 0;
         uint32_t kept[PVS__PO_SCRATCH];
-        plan[0][0] = x0, plan[0][1] = 0, plan[1][0] = x0 + len, plan[1][1] = len * t, plan[2][0] = x0, plan[2][1] = w;
+        plan[0][0] = x0, plan[0][1] = 0, plan[1][0] = x0 + len, plan[1][1] = len * t, plan[2][0] = x0, plan[2][1] = wide > 0 ? wide : w;
         test_box_arrays(pos, &vc, idx, &tc, lo, hi);
         for (i = 0; i < 6; ++i)
             pos[3 * (8 + i)] = (float)plan[i % 3][0], pos[3 * (8 + i) + 1] = (float)plan[i % 3][1], pos[3 * (8 + i) + 2] = i < 3 ? 0.0f : 10.0f;
@@ -2638,7 +2640,8 @@ static void test_portal_fit(void) {
         for (i = 0; p.hash_head && i < 64; ++i) p.hash_head[i] = PVS__PO_NONE;
         CHECK(p.hash_head && scratch && pvs__po_solids(&p, s, &frags, &cap, &count, scratch, kept));
         CHECK(count >= 1 && count <= 2 && frags[0].face_count == 6);
-        refused += count < 2;
+        refused += count < 2 && run < 300;
+        wide_refused += count < 2 && run >= 300;
         for (f = 0; f < count; ++f)
             for (i = 0; i < frags[f].vert_count; ++i) outside += !po_fit_inside(s, f ? 12 : 0, f ? 20 : 12, frags[f].v[i], p.eps);
         for (f = 0; f < count; ++f) pvs__po_poly_free(&p.allocator, frags + f);
@@ -2650,8 +2653,8 @@ static void test_portal_fit(void) {
         pvs_scene_destroy(s);
     }
     CHECK(outside == 0);
-    CHECK(refused >= 100 && refused <= 200);
-    printf("portal fit: %u of 300 needles refused\n", refused);
+    CHECK(refused >= 100 && refused <= 200 && wide_refused == 0);
+    printf("portal fit: %u of 300 needles refused, %u of 100 wide wedges\n", refused, wide_refused);
 }
 
 void test_extproj(void);
