@@ -1,4 +1,4 @@
-/* pvs.h - v0.15.3 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.15.4 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -139,7 +139,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 15
-#define PVS_VERSION_PATCH 3
+#define PVS_VERSION_PATCH 4
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -16011,15 +16011,20 @@ PVS__STATIC void pvs__tri_nearest(const double *x, const float *a, const float *
    by the snap s, and where two meet at a sharp edge their meeting line moves by s / sine of the angle (Freedoom 2
    MAP25: a 0.4-degree needle's tip 1.6e-4 past its mesh cut a grazing ray). A vertex of *q over 4 eps from the mesh
    and over 16 times as far as its farthest face plane (a snap magnified past an edge under 4 to 7 degrees) refuses
-   the solid (less solid: conservative; a cap plane, new and exact, lay near other planes and cost rays). 1: kept
-   (or empty); 0: refused (*q empty); -1: OOM */
+   the solid (less solid: conservative; a cap plane, new and exact, lay near other planes and cost rays). A sliver
+   pvs__po_convex skips has no plane (its noise kept needles). 1: kept (or empty); 0: refused (*q empty); -1: OOM */
 PVS__STATIC int pvs__po_fit(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n,
 		const uint32_t *planes, uint32_t np, pvs__po_poly *q, pvs__po_wind *scratch, uint32_t *kept) {
 	uint32_t a, j, k;
-	double c[3] = {0, 0, 0}, T = 16.0 * p->eps * p->eps, u[3], nn[3], z[3], d, len, best, m;
+	double c[3] = {0, 0, 0}, lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX}, u[3], nn[3],
+		   z[3], T = 16.0 * p->eps * p->eps, d, len, best, m, sl;
 #define PVS__PO_V(j) (s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[(j) / 3] + (j) % 3])
 	if (!pvs__po_poly_from_planes(p, planes, np, q, scratch, kept)) return -1;
-	for (j = 0; j < 3 * n; ++j) PVS__FOR3(k) c[k] += PVS__PO_V(j)[k] / (3.0 * n);
+	for (j = 0; j < 3 * n; ++j)
+		PVS__FOR3(k) c[k] += PVS__PO_V(j)[k] / (3.0 * n), lo[k] = pvs__dmin(lo[k], PVS__PO_V(j)[k]),
+				hi[k] = pvs__dmax(hi[k], PVS__PO_V(j)[k]);
+	sl = (hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]);
+	sl *= 1e-12 * sl; /* pvs__po_convex's sliver bound: such a plane is noise */
 	for (a = 0; a < q->vert_count; ++a) {
 		for (best = DBL_MAX, j = 0; j < 3 * n && best > T; ++j) { /* near mesh vertex (most): fits */
 			PVS__FOR3(k) u[k] = q->v[a][k] - PVS__PO_V(j)[k];
@@ -16032,7 +16037,7 @@ PVS__STATIC int pvs__po_fit(pvs__poprep *p, const pvs_scene *s, const uint32_t *
 			len = pvs__tri_cross(PVS__PO_V(j), PVS__PO_V(j + 1), PVS__PO_V(j + 2), nn);
 			PVS__FOR3(k) u[k] = q->v[a][k] - PVS__PO_V(j)[k], z[k] = c[k] - PVS__PO_V(j)[k];
 			d = pvs__sv_dot(nn, u) * (pvs__sv_dot(nn, z) > 0.0 ? -1.0 : 1.0);
-			if (len > 0.0) m = pvs__dmax(m, d / len);
+			if (len > sl) m = pvs__dmax(m, d / len);
 		}
 		if (best > T && m > 0.0 && best > 256.0 * m * m) {
 			pvs__po_poly_free(&p->allocator, q);
@@ -24638,7 +24643,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.15.3 (2026-12-02) PORTAL: a solid whose snapped planes meet far past its mesh is left out, not capped.
+   0.15.4 (2026-12-02) PORTAL: a sliver face has no plane in pvs__po_fit's test (its noise kept needles).
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.
