@@ -199,7 +199,9 @@ $(B)/verify_%: tests/verify_%.c tests/test_%.c tests/test.h $(TOOL_OBJ) $(TOOL_H
 	@mkdir -p $(B)
 	$(CC) -std=c99 $(WARN) -Werror -O2 -g -o $@ tests/verify_$*.c tests/test_$*.c $(TOOL_OBJ) $(LDLIBS)
 
-verify: tools $(B)/verify_raster $(B)/verify_otree $(B)/verify_extproj
+# make verify: the test suite at full size first (PVSTEST_FULL=1: the checks make test runs smaller, tests/test.h)
+verify: tools $(B)/pvstest $(B)/verify_raster $(B)/verify_otree $(B)/verify_extproj
+	cd $(B) && PVSTEST_FULL=1 ./pvstest -j 0
 	sh tests/bake_hashes.sh --check
 	./$(B)/verify_raster
 	./$(B)/verify_otree

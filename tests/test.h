@@ -24,6 +24,9 @@
 #include <time.h>
 
 extern int test_failures, test_checks;
+/* make test runs some long checks smaller (3 minutes on 2 cores); make verify runs them at full size with
+   PVSTEST_FULL=1 set (the cells, scenes and seeds each names) */
+#define TEST_FULL (getenv("PVSTEST_FULL") != NULL && atoi(getenv("PVSTEST_FULL")) > 0)
 #define CHECK(c) do { ++test_checks; if (!(c)) { ++test_failures; fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #c); } } while (0)
 
 /* ---- random numbers ---- */

@@ -458,7 +458,7 @@ static const char *extproj_reason(const pvs_bake *b) {
 static void check_sweep_default(void) {
     mesh m;
     mesh_cells cells;
-    pvs_scene *s = gen_auto_scene("auto-sweep", GEN_CITY, 4, 0.15f, 4, &m, &cells);
+    pvs_scene *s = gen_auto_scene("auto-sweep", GEN_CITY, 4, 0.15f, TEST_FULL ? 4 : 2, &m, &cells);
     pvs_bake *def, *with, *without, *alone0, *alone_off, *preview;
     uint32_t n;
     if (!s) return;
@@ -688,7 +688,7 @@ void test_auto(void) {
     check_restore();
     check_sample_policy();
     check_costly();
-    check_auto(GEN_CITY, 0.1f, 1, 6, 1);
+    check_auto(GEN_CITY, 0.1f, 1, TEST_FULL ? 6 : 3, 1);
     check_auto(GEN_INDOOR, 0.3f, 2, 10, 1);
     check_auto(GEN_WALLS, 0.3f, 3, 10, 1);
     check_auto(GEN_FOREST, 0.12f, 1, 6, 0);

@@ -1379,7 +1379,7 @@ static void test_random_walls(void) {
     pvs_object_desc obs[NW + NB];
     uint32_t nv = 0, nt = 0, no = 0, misses = 0, w, i, j, c, culled = 0;
     int scene, sweep;
-    for (scene = 0; scene < 2; ++scene) {
+    for (scene = 0; scene < (TEST_FULL ? 2 : 1); ++scene) {
         pvs_scene *s;
         pvs_box cells[NC];
         nv = nt = no = 0;

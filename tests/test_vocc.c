@@ -367,7 +367,7 @@ static void test_bake(void) {
     void *scratch;
     size_t ss;
     double culled = 0.0;
-    gp = test_gen_params(GEN_CITY, 2, 0.3f, 24);
+    gp = test_gen_params(GEN_CITY, 2, 0.3f, TEST_FULL ? 24 : 12);
     CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
     s = test_scene(&m, 1);
     CHECK(s != NULL);
