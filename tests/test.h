@@ -24,8 +24,8 @@
 #include <time.h>
 
 extern int test_failures, test_checks;
-/* make test runs some long checks smaller (3 minutes on 2 cores); make verify runs them at full size with
-   PVSTEST_FULL=1 set (the cells, scenes and seeds each names) */
+/* make test runs some long checks smaller (about 3 minutes on 2 cores); make verify sets PVSTEST_FULL=1 and runs
+   them at full size: such a check sizes its cells, scenes or seeds as TEST_FULL ? full : smaller */
 #define TEST_FULL (getenv("PVSTEST_FULL") != NULL && atoi(getenv("PVSTEST_FULL")) > 0)
 #define CHECK(c) do { ++test_checks; if (!(c)) { ++test_failures; fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #c); } } while (0)
 
