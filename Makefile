@@ -24,7 +24,7 @@ TEST_SRC := tests/test_extproj.c tests/test_noalloc.c tests/main.c tests/test_co
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c \
             tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tests/test_bsp.c tests/test_wad.c tests/test_portal.c tests/test_seethrough.c tests/test_walkable.c tools/mesh.c tools/bsp.c tools/wad.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
-.PHONY: all tools test test-neon test-tsan demo bench verify fuzz clean compile-checks readme-check examples cullmap-images lint bench-moc
+.PHONY: all tools test test-neon test-x87 test-tsan demo bench verify fuzz clean compile-checks readme-check examples cullmap-images lint bench-moc
 all: tools
 tools: $(TOOLS)
 
@@ -92,6 +92,17 @@ test-neon:
 	  $(AARCH64_CC) -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -static -DTEST_SHARED_IMPL -o $(B)/neon/pvstest $(TEST_SRC) $(LDLIBS) && \
 	  cd $(B) && $(QEMU_AARCH64) ./neon/pvstest raster; \
 	else echo "test-neon: $(AARCH64_CC) or $(QEMU_AARCH64) not found, skipped"; fi
+
+# Excess precision (not part of `make test`): the whole suite built for 32-bit x86 with x87 arithmetic, where float and
+# double expressions are evaluated in 80 bits (FLT_EVAL_METHOD 2, as 32-bit GCC builds without -mfpmath=sse), against
+# the tools of this build. Skipped when the compiler cannot build -m32 programs (Debian: gcc-multilib).
+test-x87: tools $(B)/pvsruntime $(B)/pvsdoor
+	@mkdir -p $(B)/x87
+	@if printf 'int main(void) { return 0; }\n' > $(B)/x87/probe.c && \
+	  $(CC) -m32 -o $(B)/x87/probe $(B)/x87/probe.c 2>/dev/null; then \
+	  $(CC) -m32 -mfpmath=387 -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -DTEST_SHARED_IMPL -o $(B)/x87/pvstest \
+	    $(TEST_SRC) $(LDLIBS) && cd $(B) && ./x87/pvstest -j 0; \
+	else echo "test-x87: $(CC) -m32 cannot build here (gcc-multilib), skipped"; fi
 
 # ThreadSanitizer (not part of `make test`): the raster group, whose frames run on two threads, and bakes on two
 # threads (`auto` on a city, each other conservative method and adaptive cells on an indoor scene, pvscheck -j 2) with

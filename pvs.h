@@ -1,4 +1,4 @@
-/* pvs.h - v0.15.4 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.15.5 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -139,7 +139,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 15
-#define PVS_VERSION_PATCH 4
+#define PVS_VERSION_PATCH 5
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 3
 
@@ -429,7 +429,7 @@ PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const floa
    (orthographic: 1 at near, linear, negative past `far`). Clipping keeps z_clip <= w_clip, w_clip > 0; no far clipping.
    Pixel (i, j) covers [i, i+1] x [j, j+1] for x = (x_ndc + 1) / 2 * width, y likewise (row 0 at y_ndc = -1), and holds
    nearest depth drawn, else PVS_DEPTH_EMPTY */
-#define PVS_DEPTH_EMPTY (-3.402823466e+38f)
+#define PVS_DEPTH_EMPTY (-340282346638528859811704183484516925440.0f) /* -FLT_MAX, exact in any FLT_EVAL_METHOD */
 
 /* Rasterization (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union) */
 typedef enum pvs_raster_mode {
@@ -966,7 +966,7 @@ typedef struct pvs_extproj_plane {
 	float rect[4];
 	uint32_t width, height; /* 1..4096 each */
 } pvs_extproj_plane;
-#define PVS_EXTPROJ_EMPTY 3.402823466e+38f
+#define PVS_EXTPROJ_EMPTY 340282346638528859811704183484516925440.0f /* FLT_MAX, exact */
 #define PVS_EXTPROJ_SWEEP_PLANES 16u /* per direction, pvsbake --sweep, AUTO */
 #define PVS_EXTPROJ_NO_SWEEP 0xffffffffu /* pvs_bake_desc.extproj.sweep: AUTO without sweep */
 #define PVS_EXTPROJ_RESOLUTION 256u /* default pixels per plane side */
@@ -14043,14 +14043,15 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 
 /* 1 if all of a-b hidden (checked slightly past ends) */
 PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const double *b) {
-	double d[2], iv[2], len, mu;
+	double d[2], iv[2], len, lo, hi; /* lo, hi stored: a run ends at them exactly, whatever FLT_EVAL_METHOD */
 	d[0] = b[0] - a[0];
 	d[1] = b[1] - a[1];
 	len = sqrt(d[0] * d[0] + d[1] * d[1]);
 	if (!(len > c->tol)) return 0;
-	mu = 1e-7 + c->tol / len;
-	if (pvs__vo_line_hidden(c, a, d, -mu, 1.0 + mu, iv, 1) != 1) return 0;
-	return iv[0] <= -mu && iv[1] >= 1.0 + mu;
+	lo = -(1e-7 + c->tol / len);
+	hi = 1.0 - lo;
+	if (pvs__vo_line_hidden(c, a, d, lo, hi, iv, 1) != 1) return 0;
+	return iv[0] <= lo && iv[1] >= hi;
 }
 
 /* ---- growth (§3) */
@@ -24643,7 +24644,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.15.4 (2026-12-02) PORTAL: a sliver face has no plane in pvs__po_fit's test (its noise kept needles).
+   0.15.5 (2026-12-02) FLT_EVAL_METHOD 2 (x87): PVS_DEPTH_EMPTY, PVS_EXTPROJ_EMPTY exact; VOCC compares stored ends.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

@@ -101,19 +101,32 @@ static uint64_t tg_hash(uint64_t h, const void *p, size_t n) {
     return h;
 }
 
+/* tg_hash over n 4-byte values (floats or uint32), each as its little-endian bytes: the same on any byte order */
+static uint64_t tg_hash32(uint64_t h, const void *p, size_t n) {
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        uint32_t v;
+        unsigned char b[4];
+        memcpy(&v, (const unsigned char *)p + 4 * i, 4);
+        b[0] = (unsigned char)v; b[1] = (unsigned char)(v >> 8); b[2] = (unsigned char)(v >> 16); b[3] = (unsigned char)(v >> 24);
+        h = tg_hash(h, b, 4);
+    }
+    return h;
+}
+
 /* FNV-1a over every array the generator fills (positions as IEEE bits, so any last-bit
-   difference between platforms shows). */
+   difference between platforms shows; values as little-endian bytes, so byte order does not). */
 static uint64_t tg_scene_hash(const mesh *m, const mesh_cells *cs) {
     uint64_t h = 0xCBF29CE484222325ull;
     uint32_t o;
-    h = tg_hash(h, m->positions, sizeof(float) * 3 * (size_t)m->vertex_count);
-    h = tg_hash(h, m->indices, sizeof(uint32_t) * 3 * (size_t)m->triangle_count);
+    h = tg_hash32(h, m->positions, 3 * (size_t)m->vertex_count);
+    h = tg_hash32(h, m->indices, 3 * (size_t)m->triangle_count);
     for (o = 0; o < m->object_count; ++o) {
         h = tg_hash(h, m->objects[o].name, strlen(m->objects[o].name) + 1);
-        h = tg_hash(h, &m->objects[o].first_triangle, sizeof(uint32_t));
-        h = tg_hash(h, &m->objects[o].triangle_count, sizeof(uint32_t));
+        h = tg_hash32(h, &m->objects[o].first_triangle, 1);
+        h = tg_hash32(h, &m->objects[o].triangle_count, 1);
     }
-    return tg_hash(h, cs->boxes, sizeof(float) * 6 * (size_t)cs->count);
+    return tg_hash32(h, cs->boxes, 6 * (size_t)cs->count);
 }
 
 static int tg_make(gen_kind kind, uint64_t seed, float size, uint32_t max_cells, mesh *m, mesh_cells *cs, gen_info *info) {

@@ -466,16 +466,19 @@ static int add_cells(const wad_map *w, const wad_polys *pp, uint32_t step, mesh_
         const wad_poly *q = pp->ss + i;
         const uint8_t *sr = rec(w, M_SECTORS, subsector_sector(w, i));
         float lo = rd_i16(sr), hi = rd_i16(sr + 2), box[6];
+        double b[6];
         if (!q->n || !(hi > lo) || open++ % step) continue;
-        box[0] = box[3] = (float)q->p[0][0];
-        box[2] = box[5] = (float)-q->p[0][1];
+        b[0] = b[3] = q->p[0][0];
+        b[2] = b[5] = -q->p[0][1];
         for (k = 1; k < q->n; ++k) {
-            box[0] = fminf(box[0], (float)q->p[k][0]), box[3] = fmaxf(box[3], (float)q->p[k][0]);
-            box[2] = fminf(box[2], (float)-q->p[k][1]), box[5] = fmaxf(box[5], (float)-q->p[k][1]);
+            b[0] = fmin(b[0], q->p[k][0]), b[3] = fmax(b[3], q->p[k][0]);
+            b[2] = fmin(b[2], -q->p[k][1]), b[5] = fmax(b[5], -q->p[k][1]);
         }
+        /* out to the grid; a vertex within 1e-6 of a grid step of a grid line (clipping's rounding, which differs
+           between FLT_EVAL_METHODs: x87 keeps a vertex on a line at -1e-13) counts as on it */
         for (k = 0; k < 3; k += 2) {
-            box[k] = WAD_CELL_GRID * floorf(box[k] / WAD_CELL_GRID);
-            box[k + 3] = WAD_CELL_GRID * ceilf(box[k + 3] / WAD_CELL_GRID);
+            box[k] = (float)(WAD_CELL_GRID * floor(b[k] / WAD_CELL_GRID + 1e-6));
+            box[k + 3] = (float)(WAD_CELL_GRID * ceil(b[k + 3] / WAD_CELL_GRID - 1e-6));
         }
         box[1] = lo, box[4] = hi;
         if (mesh_cells_add(cells, box)) return -1;
