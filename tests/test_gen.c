@@ -108,7 +108,8 @@ static uint64_t tg_hash32(uint64_t h, const void *p, size_t n) {
         uint32_t v;
         unsigned char b[4];
         memcpy(&v, (const unsigned char *)p + 4 * i, 4);
-        b[0] = (unsigned char)v; b[1] = (unsigned char)(v >> 8); b[2] = (unsigned char)(v >> 16); b[3] = (unsigned char)(v >> 24);
+        b[0] = (unsigned char)v; b[1] = (unsigned char)(v >> 8);
+        b[2] = (unsigned char)(v >> 16); b[3] = (unsigned char)(v >> 24);
         h = tg_hash(h, b, 4);
     }
     return h;

@@ -164,8 +164,8 @@ static void tp_triangles(void) {
     if (!s) return;
     tp_bake_check(s, l.cells, 4, "portal triangles", NULL, pvs, &mean);
     CHECK(pvs_bitset_test(pvs + 1, 4));
-    /* where doubles are evaluated wider (FLT_EVAL_METHOD 2: x87, make test-x87), a portal clipped edge-on can keep a
-       window of no area, and the flow passes it: conservative (tp_bake_check found 0 misses), not this tight */
+    /* where doubles are evaluated wider (FLT_EVAL_METHOD != 0: x87, make test-x87; s390x), a portal clipped edge-on can
+       keep a window of no area, and the flow passes it: conservative (tp_bake_check found 0 misses), not this tight */
 #if !defined(FLT_EVAL_METHOD) || FLT_EVAL_METHOD == 0
     CHECK(!pvs_bitset_test(pvs + 0, 4));
 #endif

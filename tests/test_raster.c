@@ -15,7 +15,7 @@
 
 /* The SIMD and scalar paths give the same bits where both evaluate floats as floats. Where the scalar path is
    evaluated wider (FLT_EVAL_METHOD != 0 beside SSE2: make test-x87's -msse2 run) they differ in the last bits; each
-   stays conservative (the exact references above and ray checks hold), so checks of their sameness are left out. */
+   stays conservative (this file's exact references and ray checks hold), so checks of their sameness are left out. */
 #if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0 && !defined(PVS_NO_SIMD) && \
     (defined(__SSE2__) || defined(__ARM_NEON) || defined(__ARM_NEON__))
 #define SAME_BITS 0
