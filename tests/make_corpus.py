@@ -1,6 +1,6 @@
 # make_corpus.py - maintenance only (never run by make): rebuilds the hand-made and broken files of
 # tests/corpus from tests/corpus/ok-golden.pvs after a format change. python3 tests/make_corpus.py
-# (formats 2 and 3: the baked ok-* files were converted from the previous format by decoding with the old
+# (formats 2 to 4: the baked ok-* files were converted from the previous format by decoding with the old
 # reader and encoding with the new writer, tables unchanged; tests/golden/v1.pvs and v2.pvs stay to test the
 # re-bake message)
 import zlib, struct
@@ -9,13 +9,13 @@ def al(n): return (n+7)&~7
 def build(secs):
     pos=al(32+16*len(secs)); offs=[]
     for t,dd in secs: offs.append(pos); pos=al(pos+len(dd))
-    f=bytearray(pos); f[0:4]=b'PVS\x1a'; struct.pack_into('<IIII',f,4,3,pos,len(secs),0)
+    f=bytearray(pos); f[0:4]=b'PVS\x1a'; struct.pack_into('<IIII',f,4,4,pos,len(secs),0)
     for i,(t,dd) in enumerate(secs):
         f[offs[i]:offs[i]+len(dd)]=dd
         struct.pack_into('<4sIII',f,32+16*i,t,offs[i],len(dd),zlib.crc32(dd)&0xffffffff)
     struct.pack_into('<I',f,20,zlib.crc32(bytes(f[0:20])+bytes(f[32:32+16*len(secs)]))&0xffffffff)
     return bytes(f)
-modl=struct.pack('<II',76,0)+struct.pack('<76H',*([2048]*76)) # identity order, even odds
+modl=struct.pack('<II',88,0)+struct.pack('<88H',*([2048]*88)) # identity order, even odds
 good=open(d+'/ok-golden.pvs','rb').read()
 def fix(b):
     b=bytearray(b); n=struct.unpack_from('<I',b,12)[0]
@@ -52,7 +52,7 @@ c,_=sec(good,b'CELL'); b=bytearray(good); g=struct.unpack_from('<I',b,c+24)[0]
 if g&255==255: struct.pack_into('<I',b,c+44,0x7fc00000) # table 0 of floats: a NaN
 else: struct.pack_into('<I',b,c+24,(g&255)|0x7fff<<8) # table 0's grid step 2^32767: coordinates not finite
 out['bad-cell-nan']=fix(b)
-b=bytearray(good); struct.pack_into('<I',b,4,4); out['bad-version']=bytes(b)
+b=bytearray(good); struct.pack_into('<I',b,4,5); out['bad-version']=bytes(b)
 for k,v in out.items(): open(d+'/'+k+'.pvs','wb').write(v)
 
 # a billion cells whose indices are all 0 bits wide: must be rejected in time linear in its 360 bytes
@@ -106,5 +106,5 @@ for sc in secs:
     if sc[0]==b'MODL':
         ids=list(range(99))+[120]; v=0
         for k,x in enumerate(ids): v|=x<<(7*k)
-        sc[1]=bytearray(sc[1][:8])+sc[1][8:160]; struct.pack_into('<I',sc[1],4,7); sc[1]+=v.to_bytes((700+7)//8,'little')
+        sc[1]=bytearray(sc[1][:8])+sc[1][8:184]; struct.pack_into('<I',sc[1],4,7); sc[1]+=v.to_bytes((700+7)//8,'little')
 open(d+'/bad-object-range.pvs','wb').write(build([(t,bytes(x)) for t,x in secs]))

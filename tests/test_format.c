@@ -594,8 +594,8 @@ static void test_corruptions(void) {
         CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
     }
     RESET(); b[0] = 'X';                       CHECK(expect_open(b, size, PVS_ERROR_BAD_MAGIC));
-    RESET(); test_wr32(b + 4, 4);                   CHECK(expect_open(b, size, PVS_ERROR_BAD_VERSION));
-    RESET(); test_wr32(b + 4, 2);                   CHECK(expect_open(b, size, PVS_ERROR_BAD_VERSION));
+    RESET(); test_wr32(b + 4, 5);                   CHECK(expect_open(b, size, PVS_ERROR_BAD_VERSION));
+    RESET(); test_wr32(b + 4, 3);                   CHECK(expect_open(b, size, PVS_ERROR_BAD_VERSION));
     RESET(); test_wr32(b + 8, (uint32_t)size - 8); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
     RESET(); b[16] ^= 0x80;                    CHECK(expect_open(b, size, PVS_ERROR_CHECKSUM));
     RESET(); test_wr32(b + 12, 0); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
@@ -689,7 +689,7 @@ static void test_corruptions(void) {
         RESET(); test_wr32(b + md + 4, w ? 0 : 7); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
         RESET(); test_wr32(b + md + 4, w ? w + 1 : 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
         if (w == 7) { /* 100 objects: ids up to 127 fit the width */
-            RESET(); b[md + 8 + 2 * 76] |= 0x7f; pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_OBJECT_OUT_OF_RANGE));
+            RESET(); b[md + 8 + 2 * 88] |= 0x7f; pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_OBJECT_OUT_OF_RANGE));
         }
         CHECK(w == 0 || w == 7);
     }
@@ -787,11 +787,11 @@ static void test_shards(void) {
     free(whole);
 }
 
-/* The golden file of format version 3 (tests/golden/v3.pvs) must stay readable and decode to its
-   table, tests/golden/table.txt (the `pvsinfo --dump` listing). v3.pvs holds the table of the older
-   golden files, v1.pvs and v2.pvs, which are refused with a message that says to re-bake. */
+/* The golden file of format version 4 (tests/golden/v4.pvs) must stay readable and decode to its
+   table, tests/golden/table.txt (the `pvsinfo --dump` listing). v4.pvs holds the table of the older
+   golden files, v1.pvs to v3.pvs, which are refused with a message that says to re-bake. */
 static void test_golden(void) {
-    FILE *fp = fopen("../tests/golden/v3.pvs", "rb"), *tp = fopen("../tests/golden/table.txt", "rb");
+    FILE *fp = fopen("../tests/golden/v4.pvs", "rb"), *tp = fopen("../tests/golden/table.txt", "rb");
     int v;
     static uint8_t data[1 << 16];
     static char text[1 << 16], line[4096];
@@ -812,7 +812,7 @@ static void test_golden(void) {
     fclose(tp);
     CHECK(pvs_file_open(data, size, &f, &e) == PVS_OK);
     if (e.result != PVS_OK) { fprintf(stderr, "golden: %s\n", e.message); return; }
-    for (v = 1; v <= 2; ++v) {
+    for (v = 1; v <= 3; ++v) {
         char path[64];
         snprintf(path, sizeof(path), "../tests/golden/v%d.pvs", v);
         if ((fp = fopen(path, "rb")) != NULL) {
@@ -822,7 +822,7 @@ static void test_golden(void) {
             fclose(fp);
             CHECK(pvs_file_open(old, n, &g, &e) == PVS_ERROR_BAD_VERSION && strstr(e.message, "re-bake") != NULL);
         } else {
-            CHECK(!"tests/golden/v1.pvs or v2.pvs");
+            CHECK(!"tests/golden/v1.pvs to v3.pvs");
         }
     }
     {
