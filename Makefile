@@ -96,16 +96,19 @@ test-neon:
 # Excess precision (not part of `make test`): the whole suite built for 32-bit x86 with x87 arithmetic, where float and
 # double expressions are evaluated in 80 bits (FLT_EVAL_METHOD 2, as 32-bit GCC builds without -mfpmath=sse), twice:
 # without SSE2 (scalar raster) and with it (SSE2 raster beside x87 scalar code), against the tools of this build
-# (about 7 minutes). Skipped when the compiler cannot build -m32 programs (Debian: gcc-multilib).
-X87_FLAGS := -m32 -mfpmath=387 -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -DTEST_SHARED_IMPL
+# (about 7 minutes). Skipped when the compiler cannot build -m32 programs (Debian: gcc-multilib) or the kernel cannot
+# run them; X87_RUN=qemu-i386 (qemu-user) runs them emulated, X87_GROUPS=format only some groups.
+X87_FLAGS := -m32 -mfpmath=387 -D_FILE_OFFSET_BITS=64 -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -DTEST_SHARED_IMPL
+X87_RUN ?=
+X87_GROUPS ?=
 test-x87: tools $(B)/pvsruntime $(B)/pvsdoor
 	@mkdir -p $(B)/x87
 	@if printf 'int main(void) { return 0; }\n' > $(B)/x87/probe.c && \
-	  $(CC) -m32 -o $(B)/x87/probe $(B)/x87/probe.c 2>/dev/null; then \
+	  $(CC) -m32 -o $(B)/x87/probe $(B)/x87/probe.c 2>/dev/null && $(X87_RUN) $(B)/x87/probe 2>/dev/null; then \
 	  $(CC) $(X87_FLAGS) -o $(B)/x87/pvstest $(TEST_SRC) $(LDLIBS) && \
 	  $(CC) $(X87_FLAGS) -msse2 -o $(B)/x87/pvstest-sse2 $(TEST_SRC) $(LDLIBS) && \
-	  cd $(B) && ./x87/pvstest -j 0 && ./x87/pvstest-sse2 -j 0; \
-	else echo "test-x87: $(CC) -m32 cannot build here (gcc-multilib), skipped"; fi
+	  cd $(B) && $(X87_RUN) ./x87/pvstest -j 0 $(X87_GROUPS) && $(X87_RUN) ./x87/pvstest-sse2 -j 0 $(X87_GROUPS); \
+	else echo "test-x87: $(CC) -m32 cannot build or run 32-bit programs here (gcc-multilib; X87_RUN=qemu-i386), skipped"; fi
 
 # ThreadSanitizer (not part of `make test`): the raster group, whose frames run on two threads, and bakes on two
 # threads (`auto` on a city, each other conservative method and adaptive cells on an indoor scene, pvscheck -j 2) with
