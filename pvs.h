@@ -22825,6 +22825,7 @@ PVS__STATIC uint32_t pvs__order_at(const pvs_file *f, uint32_t k) {
 	return pvs__get_bits(f->private_.order, at, w);
 }
 
+/* Bit of object at position k of file's order */
 PVS__STATIC uint32_t pvs__order_bit(const pvs_file *f, const pvs_word *bits, uint32_t k) {
 	uint32_t o = pvs__order_at(f, k);
 	return (uint32_t)(bits[o >> 6] >> (o & 63)) & 1u;
