@@ -533,7 +533,7 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_des
 	   for p < PVS_RASTER_PARTS: pvs_raster_bin(r, draws, n, p);  // after every band cleared
 	   for b < PVS_RASTER_PARTS: pvs_raster_draw_band(r, draws, n, b);  // after every bin
 	   for b <= PVS_RASTER_PARTS: pvs_raster_pyramid_band(r, b);  // last after all; then box tests, any threads
-   Map: byte for byte pvs_raster_draw's of draws in order. Keep draws, their arrays, matrix until bands drawn. Rounds
+   Map: byte for byte as pvs_raster_draw of draws in order. Keep draws, their arrays, matrix until bands drawn. Rounds
    (each's bins after previous one's bands): bins drop triangles earlier rounds' maps hide: first round of nearest
    occluders saves later bands most work. Threads taking parts and bands from opposite ends keep band's tiles in one
    core's cache */
@@ -4686,7 +4686,7 @@ PVS__STATIC void pvs__block_min(pvs_raster *r, uint32_t bx, uint32_t by) {
 
 /* 1 if every tile under box[0]..box[8] x box[16]..box[24] (i0, i1, j0, j1) has base as near as zmax. Blocks first,
    small boxes too (bases only grow: stale block minimum is lower bound, retaken on failure if dirty). `bins`: blocks
-   only, read-only (pvs_raster_bin's parts run concurrently) */
+   alone, read only (pvs_raster_bin's parts run concurrently) */
 PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *box, float zmax, int bins) {
 	uint32_t tx0 = (uint32_t)box[0] >> PVS__TW_SHIFT, tx1 = (uint32_t)box[8] >> PVS__TW_SHIFT, tx, ty;
 	uint32_t ty0 = (uint32_t)box[16] >> PVS__TH_SHIFT, ty1 = (uint32_t)box[24] >> PVS__TH_SHIFT, bx, by;
