@@ -1,4 +1,4 @@
-/* pvs.h - v0.16.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.16.1 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -140,7 +140,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 16
-#define PVS_VERSION_PATCH 0
+#define PVS_VERSION_PATCH 1
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 4
 
@@ -1303,7 +1303,7 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
 /* Box of cell (< cell_count); with PVS_FILE_NO_LOOKUP empty (min FLT_MAX, max -FLT_MAX) */
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
 /* Decodes cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): chain's key, then
-   <= max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation */
+   <= max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation; 2 KB of stack */
 PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count,
 		pvs_error *err);
 
@@ -6891,13 +6891,13 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 
 // >>otree
 /* ==== otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7) ==== */
-/* BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through R^3's origin, images p* of points p
-   (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 if p left of l). Leaves: out (unblocked), in (blocked by
-   payload: 2D nearest occluder; 2.5D those maybe seen over). Line sets: convex polygons of unit vectors; edges keep
-   plane's point, marked if on path (§4.10.1): out-leaf becomes e-OT of unmarked edges (§3.3.3). Conservative: stored
-   points' exact planes bound regions; insertion drops only blocked slivers; read-only tests split with slack; unclear
-   depth order: visible. Doubles, cell-centred. Users: pvs_visibility_2d (exact, ch. 6), pvs_visibility_25d (c-LSS,
-   ch. 7), OTREE bake; pvs_otree_cull (ch. 4) has own 3D kernel */
+/* BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes p* through R^3's origin of points p (§6.4:
+   l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 if p left of l). Leaves: out (unblocked), in (blocked by payload:
+   2D nearest occluder; 2.5D those maybe seen over). Line sets: convex polygons of unit vectors; edges keep plane's
+   point, marked if on path (§4.10.1): out-leaf becomes e-OT of unmarked edges (§3.3.3). Conservative: stored points'
+   exact planes bound regions, insertion drops only blocked slivers, read-only tests split with slack, unclear depth
+   order is visible. Doubles, cell-centred. Users: pvs_visibility_2d (exact), pvs_visibility_25d, OTREE bake;
+   pvs_otree_cull has own 3D kernel */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT25_WITNESSES 16
@@ -6940,7 +6940,7 @@ typedef struct pvs__otree {
 	int oom;
 	const double *seg; /* occluder segments, 4 local doubles */
 	const double *top; /* 2.5D: occluder tops; NULL in 2D */
-	const double *reach; /* 2D: per occluder, max distance to cell point */
+	const double *reach; /* 2D: occluders' max distance to cell point */
 	double sa[2], sb[2]; /* source edge (cell or top edge) */
 	double eye; /* 2.5D: source edge height */
 	const double *corners; /* 2.5D: cell's 4 ground corners (all eyes) */
@@ -7070,8 +7070,8 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 	n[2] = f;
 }
 
-/* Clips `in` to n . l >= -slack (0: exact half), n: p's plane's unit normal; new edges marked `mark`. Returns vertex
-   count (0 empty, -1 overflow) */
+/* Clips `in` to n . l >= -slack (0: exact), n: p's plane's unit normal; new edges marked `mark`. Count: 0 empty, -1
+   overflow */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
 		pvs__otpoly *out) {
 	double d[PVS__OT_MAXV + 1];
@@ -7111,8 +7111,7 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	out->n = m;
 	return m;
 }
-/* 2.5D witness lines: read-only test reaching out-leaf keeps polygon's normalised vertex sum; dropped in later
-   in-leaf */
+/* 2.5D witness: read-only test reaching out-leaf keeps polygon's normalised vertex sum; dropped if later in in-leaf */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	double w[3] = {0, 0, 0}, len;
 	int i;
@@ -7144,7 +7143,7 @@ PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode
 }
 
 /* Insertion at inner node (§3.3.3), top item in place: edges on node's plane marked (§4.10.1), polygon to child or
-   split; child whose subtree hides occluder (2.5D, near >= 0): none; 2.5D descends one-sided nodes here */
+   split, none to child subtree hiding occluder (2.5D, near >= 0); 2.5D descends one-sided nodes here */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q = PVS__OT_ITEM(t, top);
 	const pvs__otnode *nd;
@@ -7192,8 +7191,8 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 	}
 }
 
-/* Read-only test at inner node (§3.3.4), top item in place: polygon within 1e-12 of plane on one side goes there, else
-   each side gets part widened 1e-12. 1 if surely visible (2.5D: straddled child out-leaf) or OOM */
+/* Read-only test at inner node (§3.3.4), top item in place: polygon on one side within 1e-12 goes there, else each
+   side gets part widened 1e-12. 1 if surely visible (2.5D: straddled child out-leaf) or OOM */
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q;
 	const pvs__otnode *nd;
@@ -7224,8 +7223,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 		t->stack_node[top] = c;
 		if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return 0;
 	}
-	/* 2.5D (no sliver rule): both parts have vertex strictly off plane: out-leaf child answers; its part's line:
-	   witness (pvs__ot25_witnessed) */
+	/* 2.5D (no sliver rule), vertices strictly on both sides: out-leaf child answers; its part's line: witness */
 	if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
 		int out1 = t->nodes[c1].kind == PVS__OT_OUT;
 		PVS__FOR3(i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
@@ -7233,7 +7231,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 			pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top + 1));
 		return 1;
 	}
-	{	/* child whose subtree hides query (2.5D bound) gets nothing */
+	{	/* child subtree hiding query (2.5D bound) gets nothing */
 		int h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
 		if (h0 && h1) { t->stack_count = top; return 0; }
 		if (h0 || h1) {
@@ -7301,7 +7299,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 			double *w = q->v[n - 1];
 			double dd = fabs(w[0] - v[i][0]) + fabs(w[1] - v[i][1]) + fabs(w[2] - v[i][2]);
 			if (dd <= 1e-12) {
-				/* same line as previous vertex: edge plane through point on both neighbours */
+				/* same line as previous vertex: edge plane via point on both neighbours */
 				continue;
 			}
 		}
@@ -7365,7 +7363,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 	return 1;
 }
 
-/* Line through segment s (4 doubles) for pvs__ot_hit_m: m[0..2] = (s0, 1) x (s1, 1), m[3] = |(m0, m1)| */
+/* Line of segment s (4 doubles) for pvs__ot_hit_m: m[0..2] = (s0, 1) x (s1, 1), m[3] = |(m0, m1)| */
 PVS__STATIC void pvs__ot_hit_line(const double *s, double m[4]) {
 	m[0] = s[1] - s[3];
 	m[1] = s[2] - s[0];
@@ -7410,7 +7408,7 @@ PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const 
 	int i, have_x;
 	double x[2], mj[4], mk[4];
 	*front = *behind = 0;
-	/* after split at crossing X, lines through X tie */
+	/* ties via X only after split at X */
 	have_x = q->xsplit && pvs__ot_cross(sj, sk, x);
 	pvs__ot_hit_line(sj, mj);
 	pvs__ot_hit_line(sk, mk);
@@ -7444,8 +7442,8 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 	return pos;
 }
 
-/* Turns leaf `node` into chain of q's unmarked edges (e-OT, §3.3.3): split by each edge's plane, q's side going on,
-   others keep leaf's kind, payload. Returns q's node, PVS__OT_NONE: OOM */
+/* Makes leaf `node` a chain of q's unmarked edges (e-OT, §3.3.3): split by each edge's plane, q's side onward, others
+   keep leaf's kind, payload. Returns q's node, PVS__OT_NONE: OOM */
 PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
 	double cen[3] = {0, 0, 0};
 	int i, k;
@@ -7568,7 +7566,7 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 }
 
 /* Blockers of source edge a -> b (lines leaving right) and clipped segment o: 1, or 2 if o's line crosses edge at x
-   (Fig. 6.5). Returns count; *degenerate: non-empty line set unrepresentable */
+   (Fig. 6.5); *degenerate: non-empty line set unrepresentable */
 PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
 		pvs__otpoly out[2], int *degenerate) {
 	double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
@@ -7641,8 +7639,7 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 	return 1;
 }
 
-/* Max visibility distances (§6.5.5), bottom-up: out-leaves unbounded, in-leaves stored occluder's max cell-point
-   distance */
+/* Max visibility distances (§6.5.5), bottom-up; in-leaves: stored occluder's max to cell point */
 PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
 	size_t i;
 	for (i = t->node_count; i-- > 0;) {
@@ -7709,8 +7706,8 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 	return PVS_OK;
 }
 
-/* MVD distances (§6.5.5) of `count` segments to cell (n vertices), rounded outward by len_eps: reach[i]: max distance
-   of segment i to cell point, near[i] min (0: meet) */
+/* MVD distances (§6.5.5) of segment i < count to cell (n vertices), rounded outward by len_eps: reach[i] max to a cell
+   point, near[i] min (0: meet) */
 PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
 		double *reach, double *near) {
 	uint32_t i, k;
@@ -7854,8 +7851,8 @@ done:
    2. in (s, h), s along line, vertex s values cut slabs (cross-section bounds linear): connected sets of triangles
 	  overlapping (within tol) at both slab ends cover [min_j max(lo_j), max_j min(hi_j)] (lo_j, hi_j at ends);
    3. adjacent slabs with equal intervals (within tol): facade, segment and heights [bottom, top] it fully covers.
-   Conservative up to tol (8 float epsilons of coordinates); heights rounded inward. Writes *count facades (u0 v0
-   u1 v1 top bottom) into new *out (allocator a, *out_floats floats), *vertical: vertical triangles; OOM: *out NULL */
+   Conservative up to tol (8 float epsilons of coordinates); heights rounded inward. *count facades (u0 v0 u1 v1 top
+   bottom) into new *out (allocator a, *out_floats floats); *vertical: vertical triangles; OOM: *out NULL */
 #define PVS__FX_MAX_COVER 512 /* slabs under more triangles left out (conservative) */
 #define PVS__OT25_LEVELS 8 /* facade base heights OTREE tells apart (pvs__otree_prepare) */
 
@@ -7957,8 +7954,7 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 	return nv;
 }
 
-/* Step 1's group: mem's slots as (s, h) triangles into w->sv on longest member's line (ties: lower slot), less those
-   over tol from it; count kept */
+/* Step 1, group mem: (s, h) triangles on longest member's line (ties: lower slot) into w->sv, less far ones; count */
 PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem,
 		uint32_t n) {
 	uint32_t ref = mem[0].index, nm = 0, i, k;
@@ -7991,9 +7987,8 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
 	return nm;
 }
 
-/* Steps 2-3 on slab [sa, sb] (ground points ga, gb), members w->act[0..use): connected sets (step 2, BFS), their
-   intervals, each continuing open facade ending at sa with equal interval (within tol) or opening one; rest emitted. 0:
-   OOM */
+/* Steps 2-3 on slab [sa, sb] (ground points ga, gb), members w->act[0..use): connected sets (step 2, BFS), intervals;
+   each continues open facade ending at sa with equal interval (within tol) or opens one; rest emitted. 0: OOM */
 PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
 		const double gb[2]) {
 	double tol = w->tol, *sec = w->sec;
@@ -8160,7 +8155,7 @@ done:
 /* kD nodes with fewer item refs untested (cf. §4.12.1: none below 50 polygons) */
 #define PVS__OT25_TEST_MIN 48
 
-/* Hidden-height bound (§6.5.5's max visibility distance, 2.5D): in-leaf's lines cross every member j. Ray from eye <=
+/* Hidden-height bound (2.5D §6.5.5 max visibility distance): in-leaf's lines cross every member j. Ray from eye <=
    H = t->eye high over j (top h_j > H) rises at slope >= s = (h_j - H) / reach_j: points >= n > reach_j from cell,
    under H + s n, hidden. Leaves keep steepest member (mr = reach, ms = s), inner nodes children's max reach, min slope;
    none (DBL_MAX) over out-leaves, members no taller than eyes */
@@ -8170,8 +8165,8 @@ PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	nd->mr = nd->ml = DBL_MAX;
 	nd->ms = nd->mls = 0.0;
 }
-/* Member k joins in-leaf `node`, whose lines cross k within [f0, f1] only: reach there <= jd[8], slope >= jd[9]. Leaf
-   keeps steepest member (mr, ms), least-reach one (ml, mls), valid for later splits' parts */
+/* Member k joins in-leaf `node` whose lines cross k only within [f0, f1]: reach there <= jd[8], slope >= jd[9]. Leaf
+   keeps steepest (mr, ms), least-reach (ml, mls) member, valid for later splits' parts */
 PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
 	const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
 	pvs__otnode *nd = t->nodes + node;
@@ -8242,10 +8237,10 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 	return d > 0.0 ? d : 0.0;
 }
 
-/* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from eyes
-   at height H = t->eye over cell (§7.1): open interval (u0, u1) on e where all such rays pass under j's top. Eye p, q
-   below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D: signed distance to j's line (> 0 on source side); monotone in
-   D(p): corners' extreme D (clamped at 0) cover all eyes (thesis's pi_o / pi_s). 0: empty */
+/* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h): open interval (u0, u1) on e where all
+   rays from eyes H = t->eye high over cell (§7.1) cross j's line under its top. Eye p, q below if (h - H) D(p) <
+   (h_j - H) (D(p) - D(q)), D: signed distance to j's line (> 0 on source side); monotone in D(p): corners' extreme D
+   (clamped at 0) cover all eyes (thesis's pi_o / pi_s). 0: empty */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
 		double *u1) {
 	double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
@@ -8278,8 +8273,8 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0
 
 /* Occluder j's per-tree data: jd[0..2] line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on source side);
    jd[3..4] cell corners' min, max D (clamped at 0); jd[5] 1: source edge on one side; jd[6] top - eyes; jd[7] 0: no
-   umbra (source edge midpoint on line, or point); jd[8] reach (max cell-point distance, rounded up); jd[9] (top - eyes)
-   / reach if taller than eyes, else 0 */
+   umbra (source edge midpoint on line, or point); jd[8] reach (max cell-point distance, rounded up); jd[9] jd[6] /
+   reach if > 0, else 0 */
 PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	const double *sg = t->seg + 4 * (size_t)j;
 	double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1],
@@ -8310,9 +8305,8 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	jd[7] = 1.0;
 }
 
-/* Part of far segment e (height h) seen over front members of payload seq[first..+count) in q's funnel: parameter hull
-   [*v0, *v1] in funnel range [*f0, *f1]; members crossing `skip_box` (2D, or NULL) or not surely in front ignored. 0:
-   none */
+/* Part of far segment e (height h) seen over payload seq[first..+count)'s front members in q's funnel: parameter hull
+   [*v0, *v1] in funnel [*f0, *f1]; members crossing `skip_box` (2D, or NULL) or not surely in front ignored. 0: none */
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
 		const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
 		double *v1) {
@@ -8351,7 +8345,7 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 			pvs__ot_depth(t, q, e, sj, &front, &behind);
 			if (!front || behind) continue;
 		}
-		if (um[nu][0] <= flo && um[nu][1] >= fhi) return 0; /* one umbra covers funnel's part: hidden */
+		if (um[nu][0] <= flo && um[nu][1] >= fhi) return 0; /* covered: hidden */
 		++nu;
 	}
 	*f0 = flo; *f1 = fhi;
@@ -8373,12 +8367,12 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 
 #define PVS__OT25_MAX_SEQ 32
 /* Lazy funnel splitting: under this many members leaf takes partly visible occluders whole (conservative: thesis keeps
-   hidden ones in S_L too, §7.5.2); from here splitting (<= 3, §7.5.2) bounds it (BENCHMARKS.md) */
+   hidden ones in S_L too, §7.5.2); from here splitting bounds it (BENCHMARKS.md) */
 #define PVS__OT25_SPLIT_MIN 16
 
-/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; in-leaf funnel test clips k's
-   top edge by front members' extended umbrae; if part visible leaf gets k, split (from PVS__OT25_SPLIT_MIN members) in
-   <= 3: primary funnel (rays via visible part): members, k; others: members */
+/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves of k; in-leaf funnel test clips k's top
+   edge by front members' extended umbrae; part visible: leaf gets k, split (from PVS__OT25_SPLIT_MIN members) in <= 3:
+   primary funnel (rays via visible part): members, k; others: members */
 PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
@@ -8409,7 +8403,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 			leaf = pvs__ot_refine(t, node, q);
 			if (leaf == PVS__OT_NONE) break;
 			for (i = 0; i < q->n; ++i) PVS__FOR3(c) cen[c] += q->v[i][c];
-			/* lines through k before v0 (after v1) see only old members: primary side (lines crossing k beyond x, point
+			/* lines via k before v0 (after v1) see only old members: primary side (lines crossing k beyond x, point
 			   at v0) has x on side of k's first end (at v1: second) */
 			for (c = 0; c < 2 && count >= PVS__OT25_SPLIT_MIN; ++c) {
 				double x[2], u = c ? v1 : v0, sgn;
@@ -8483,10 +8477,10 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 	return 0;
 }
 
-/* Read-only test (§3.3.4): 1 if blocker line may pass stored occluders (or OOM). Splits with slack, stops at first
+/* Read-only test (§3.3.4): 1 if blocker line may pass stored occluders (or OOM); splits with slack, stops at first
    visible leaf. 2D (§6.5.3; e NULL, h unused): line reaches occluder k before any stored one; slivers
-   (pvs__ot_thickness) ignored. 2.5D (c-LSS): part of far edge e (height h) of `box` may be seen. near: distance for
-   subtree bounds (§6.5.5; 2.5D pvs__ot25_near) */
+   (pvs__ot_thickness) ignored. 2.5D: part of far edge e (height h) of `box` may be seen. near: distance for subtree
+   bounds (§6.5.5; 2.5D pvs__ot25_near) */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 		const double *e, const double *box) {
 	size_t base = t->stack_count, top;
@@ -8542,8 +8536,7 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 	if (any_far) *any_far = 0;
 	if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
 	/* Box taller than eyes seen (if at all) along rising ray, best at 2D line's entry; lower one along falling ray, at
-	   exit. Lines enter only via box edges facing source, leave via others (edges 0..3: -v, +u, +v, -u): entry (exit)
-	   edge first, then sides */
+	   exit. Edges 0..3: -v, +u, +v, -u; entry (exit) edge first, then sides */
 	if (fabs(nx) > fabs(ny)) far_edge = nx > 0 ? 1 : 3;
 	else far_edge = ny > 0 ? 2 : 0;
 	order[0] = top > t->eye ? (far_edge + 2) & 3 : far_edge;
@@ -8582,7 +8575,7 @@ typedef struct pvs__ot25_sweep {
 	double cx, cy;
 	uint32_t side, budget;
 	pvs_otree_stats *st;
-	const uint32_t *refs; /* per kD node: item references in subtree */
+	const uint32_t *refs; /* per kD node: item refs in subtree */
 	uint32_t node;
 	uint32_t test_min;
 } pvs__ot25_sweep;
@@ -8605,7 +8598,7 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 		far = nx * (nx > 0 ? bx[2] : bx[0]) + ny * (ny > 0 ? bx[3] : bx[1]) - (nx * w->a[0] + ny * w->a[1]);
 		if (far < -t->len_eps * (fabs(nx) + fabs(ny) + 1.0)) return PVS_VISIT_SKIP;
 	}
-	/* leaves untested: inserting facades, testing objects later is cheaper (§4.12.1) */
+	/* leaves untested: cheaper to insert, test later (§4.12.1) */
 	if (!items && w->refs[w->node] >= w->test_min &&
 		!(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
 		if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, NULL)) return PVS_VISIT_SKIP;
@@ -8645,7 +8638,7 @@ PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source
 }
 
 /* Balanced top of source edge's tree: front-to-back insertion makes open region deep chain; presplitting root by
-   (exact) planes of PVS__OT25_PRESPLIT far points over all directions leaves short chains, one a sector. Reorders
+   exact planes of PVS__OT25_PRESPLIT far points in all directions leaves short chains, one a sector. Reorders
    pts[lo..hi): each with child holding its line from m */
 #define PVS__OT25_PRESPLIT 16
 PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
@@ -8702,8 +8695,7 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
 }
 
 /* 2.5D input relative to cell centre (cx, cy): facade segments into all (4 doubles), objects into box (u0 v0 u1 v1
-   top), cell rectangle grown by *margin into cell (4 CCW corners; never degenerate). Returns facades' max |coordinate|
-   (>= 1) */
+   top), cell rectangle grown by *margin into cell (4 CCW corners; nondegenerate). Returns facades' max |coord| >= 1 */
 PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
 		double cell[8], double *margin) {
 	double ext = 1.0, hx, hy;
@@ -8731,7 +8723,7 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 	double m[2], m2[2], l[3], sa_, sb_;
 	uint32_t pos;
 	m[0] = 0.5 * (a[0] + b[0]); m[1] = 0.5 * (a[1] + b[1]);
-	m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* cell centred at origin: m points out */
+	m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* m points out */
 	pvs__ot_line(m, m2, l);
 	sa_ = pvs__ot_side(l, a);
 	sb_ = pvs__ot_side(l, b);
@@ -8754,9 +8746,8 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 	t->root_in = pos;
 }
 
-/* One tree per top edge (§7.1): lines leaving cell via edge `side` (corner side + 1 to corner side), built by sweeping
-   `tree`; visible leaves' candidates tested (§7.7) into visible_objects. 0: no object left to decide or tree stopped
-   (t->oom: OOM) */
+/* One tree per top edge (§7.1): lines leaving via edge `side` (corner side + 1 to side), built by sweeping `tree`;
+   visible leaves' candidates tested (§7.7) into visible_objects. 0: no undecided object, or stopped (t->oom: OOM) */
 PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
 		pvs_word *visible_objects) {
 	pvs__otree *t = w->t;
@@ -8937,11 +8928,11 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 
 /* ---- from-point culling: shadow-volume occlusion tree (ch. 4) */
 
-/* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes through eye (unit normal);
-   in-leaf: fragment blocking its ray pyramid. Edge marks: §4.10.1. Conservative: in-leaf region meets exact stored
-   planes; insertion may drop slivers below tol. Tests widen by `tol` (1e-10 x eye-relative scene size, >> unit-normal
-   dot error): box descends all sides within it, hidden only beyond. Each plane tested at sign-picked corner, same ops
-   for all boxes: monotone: hierarchy updating exact (§4.11.4) */
+/* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes via eye (unit normal);
+   in-leaf: fragment blocking its ray pyramid. Conservative: in-leaf region meets exact stored planes; insertion may
+   drop slivers below tol. Tests widen by `tol` (1e-10 x eye-relative scene size, >> unit-normal dot error): box
+   descends all sides within it, hidden only beyond. Each plane tested at sign-picked corner, same ops for all boxes:
+   monotone: hierarchy updating exact (§4.11.4) */
 
 #define PVS__SV_MAXV 16
 #define PVS__SV_STACK 256
@@ -8974,7 +8965,7 @@ typedef struct pvs__svvert {
 	double f[3], m[3];
 } pvs__svvert;
 
-/* Candidate: score (area-angle, later distance), triangle or volume face */
+/* Candidate: score (area-angle, later distance) */
 typedef struct pvs__svsel {
 	double key;
 	uint32_t a, b; /* b == PVS__SV_TRIANGLE: triangle a; else occluder a's face b */
@@ -9040,8 +9031,7 @@ PVS__STATIC double pvs__sv_lo(const double n[3], const double lo[3], const doubl
 		n[2] * (n[2] >= 0.0 ? lo[2] : hi[2]);
 }
 
-/* Keeps `in` where n.x + d >= 0; new edge: plane `en` (via eye; NULL: eye-and-new-edge), `mark`. Count: 0 empty, -1
-   overflow */
+/* Keeps `in` where n.x + d >= 0; new edge: plane `en` (via eye; NULL: via eye, edge), `mark`. 0 empty, -1 overflow */
 PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d, const double *en, int mark,
 		pvs__svpoly *out) {
 	double s[PVS__SV_MAXV];
@@ -9187,7 +9177,7 @@ PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpo
 }
 
 /* Merges occluder polygon q (§3.3.3, App. C.1.4): filtered down, split, edges marked; out-leaves become its e-OT;
-   in-leaves: stored fragment replaced where q in front */
+   in-leaves: q replaces fragment where in front */
 PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const double plane[4]) {
 	uint32_t sp = 0;
 	o->stack[0] = *poly;
@@ -9323,8 +9313,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 	return smin > t ? PVS__SV_V : PVS__SV_P;
 }
 
-/* Box [lo, hi] in tree (§4.10.2): descends, unsplit, all sides it reaches; leaves combine by Table 3.1, stop at first
-   partly visible */
+/* Box [lo, hi] in tree (§4.10.2), unsplit; leaves combine by Table 3.1, stop at first partly visible */
 PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], const double hi[3]) {
 	uint32_t sp = 1, *stk = o->tstack;
 	int vis = 0, inv = 0;
@@ -9400,8 +9389,7 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
 	}
 }
 
-/* Area-angle M = A |N . V| / |D|^2 (§4.5), V unit eye-to-centre D (thesis: view direction); -1: wholly out of
-   frustum */
+/* Area-angle M = A |N . V| / |D|^2 (§4.5), V: unit eye-to-centre D (thesis: view direction); -1: wholly off frustum */
 PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int n) {
 	double v[4][3], c[3], area[3], dd;
 	int i, k;
@@ -9615,8 +9603,7 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *o, pvs_otree_frame *frame) {
 	if (o && frame) *frame = o->info;
 }
 
-/* New scene or near-wrap frame counter: all kD states stale; new scene: rebuilds object triangle ranges, drops
-   occluders */
+/* New scene or frame near wrap: kD states stale; new scene: object triangle ranges rebuilt, occluders dropped */
 PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
 	uint32_t i;
 	if (s != o->last_scene || o->frame > 0xfffffff0u) {
@@ -9639,7 +9626,7 @@ PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
 	o->s = s;
 }
 
-/* Eye frame (as pvs_camera_matrix), frustum planes (unit normals in), o->tol from eye-relative size */
+/* Eye frame (as pvs_camera_matrix), frustum planes (unit normals in), o->tol */
 PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam) {
 	double u[3], r[3], len, ty, tx, size = 0.0;
 	uint32_t k;
@@ -9965,7 +9952,7 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 	d.node_budget = ot->budget;
 	grp = PVS__ALLOC_N(&ot->allocator, unsigned char, (size_t)no + 1);
 	if (!grp) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u object levels", cell);
-	for (i = 0; i < no; ++i) { /* drawable object's level: highest <= its floor */
+	for (i = 0; i < no; ++i) { /* drawable objects' levels */
 		float fl = s->object_boxes[i].min[up];
 		if (c->min[up] < fl) fl = c->min[up];
 		grp[i] = 0xff;
@@ -22815,9 +22802,9 @@ PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z 
 /* Bit's context: key, base bit, previous bit and its base bit, next base bit, bit before previous */
 #define PVS__CTX(key, b, pc, pb, nb, pc2) ((key) | (b) << 1 | (pc) << 2 | (pb) << 3 | (nb) << 4 | (pc2) << 5)
 
-/* Object at position k of file's order */
+/* Object at position k of file's order (f NULL: the identity, for bits kept in file order) */
 PVS__STATIC uint32_t pvs__order_at(const pvs_file *f, uint32_t k) {
-	uint32_t w = f->private_.order_bits;
+	uint32_t w = f ? f->private_.order_bits : 0u;
 	uint64_t at = (uint64_t)k * w;
 	if (!w) return k;
 	if ((at >> 3) + 8 <= f->private_.order_bytes) /* one load: shift + w <= 39 bits */
@@ -22831,12 +22818,14 @@ PVS__STATIC uint32_t pvs__order_bit(const pvs_file *f, const pvs_word *bits, uin
 	return (uint32_t)(bits[o >> 6] >> (o & 63)) & 1u;
 }
 
-/* Bits of objects at positions at..at + lim - 1 (lim <= 64), in order */
+/* Bits of objects at positions at..at + lim - 1 (at a multiple of 64, lim <= 64), in order */
 PVS__STATIC pvs_word pvs__order_word(const pvs_file *f, const pvs_word *bits, uint32_t at, uint32_t lim) {
-	uint32_t w = f->private_.order_bits, j, o;
+	uint32_t w = f ? f->private_.order_bits : 0u, j, o;
 	uint64_t pos = (uint64_t)at * w, m = ((uint64_t)1 << w) - 1u;
-	int slow = !w || ((pos + (uint64_t)lim * w) >> 3) + 8 > f->private_.order_bytes; /* else one load each */
+	int slow;
 	pvs_word r = 0;
+	if (!w) return bits[at >> 6] & (lim < 64 ? ((pvs_word)1 << lim) - 1u : ~(pvs_word)0);
+	slow = ((pos + (uint64_t)lim * w) >> 3) + 8 > f->private_.order_bytes; /* else one load each */
 	for (j = 0; j < lim; ++j, pos += w) {
 		o = slow ? pvs__order_at(f, at + j)
 				 : (uint32_t)((pvs__load64(f->private_.order + (pos >> 3)) >> (pos & 7u)) & m);
@@ -22846,9 +22835,11 @@ PVS__STATIC pvs_word pvs__order_word(const pvs_file *f, const pvs_word *bits, ui
 }
 
 /* Applies record payload p[0..end) to bits in place: key (bits empty) or delta (bits: base's PVS). Any bytes give
-   some set of ids < object_count. learn: NULL, or adaptive probabilities instead of file's */
+   some set of ids < object_count. in_order: bits indexed by file's order position, not object. learn: NULL, or
+   adaptive probabilities instead of file's */
 PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint8_t *end, uint32_t key,
-		pvs_word *bits, uint16_t *learn) {
+		pvs_word *bits, int in_order, uint16_t *learn) {
+	const pvs_file *of = in_order ? NULL : f; /* the order's helpers: NULL is the identity */
 	uint32_t n = f->object_count, words = (uint32_t)PVS_BITSET_WORDS(n), w, k, ch = 0, pc = 0, pb = 0, pc2 = 0, o;
 	uint32_t x1 = 0, x2 = 0xffffffffu, x = 0, y, mid, ctx;
 	const uint16_t *prob = learn ? learn : f->private_.prob;
@@ -22871,18 +22862,18 @@ PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint
 		uint32_t lim = n - (w << 6) < 64 ? n - (w << 6) : 64, at = w << 6, j, bf = 0, v = 0, last = 0;
 		pvs_word bw = 0, xw; /* changed word: base's bits, then its own, in file's order */
 		if (!key) {
-			last = pvs__order_bit(f, bits, at + lim - 1);
-			v = last << 2 | pvs__order_bit(f, bits, at) | (lim > 32 ? pvs__order_bit(f, bits, at + 32) << 1 : 0u);
+			last = pvs__order_bit(of, bits, at + lim - 1);
+			v = last << 2 | pvs__order_bit(of, bits, at) | (lim > 32 ? pvs__order_bit(of, bits, at + 32) << 1 : 0u);
 		}
 		ctx = PVS__CTX_FLAG + (PVS__KIND(key, v, lim > 32 ? 7u : 5u) | ch << 2);
 		PVS__AC_GET();
 		ch = y;
 		if (!ch) { /* word as in base: its last 2 bits are context */
-			pc2 = key || lim < 2 ? 0u : pvs__order_bit(f, bits, at + lim - 2);
+			pc2 = key || lim < 2 ? 0u : pvs__order_bit(of, bits, at + lim - 2);
 			pc = pb = last;
 			continue;
 		}
-		if (!key) bw = pvs__order_word(f, bits, at, lim);
+		if (!key) bw = pvs__order_word(of, bits, at, lim);
 		xw = bw;
 		for (j = 0; j < lim; j += 8) {
 			uint32_t e = j + 8 < lim ? j + 8 : lim, m = (1u << (e - j)) - 1u;
@@ -22897,11 +22888,11 @@ PVS__STATIC void pvs__rec_decode(const pvs_file *f, const uint8_t *p, const uint
 			for (k = j; k < e; ++k) {
 				uint32_t b = (uint32_t)(bw >> k) & 1u,
 						 nb = k + 1 < lim ? (uint32_t)(bw >> (k + 1)) & 1u
-						 : at + k + 1 < n && !key ? pvs__order_bit(f, bits, at + k + 1) : 0u;
+						 : at + k + 1 < n && !key ? pvs__order_bit(of, bits, at + k + 1) : 0u;
 				ctx = PVS__CTX(key, b, pc, pb, nb, pc2);
 				PVS__AC_GET();
 				if (y != b) {
-					o = pvs__order_at(f, at + k);
+					o = pvs__order_at(of, at + k);
 					bits[o >> 6] ^= (pvs_word)1 << (o & 63);
 					xw ^= (pvs_word)1 << k;
 				}
@@ -22986,7 +22977,7 @@ PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_w
 	PVS__ZERO(f); /* with learn, pvs__rec_decode reads only object_count (identity order) */
 	f.object_count = b->object_count;
 	for (k = 0; k < (int)PVS__CTX_COUNT; ++k) learn[k] = 2048;
-	if (b->rec[task]) pvs__rec_decode(&f, b->rec[task], b->rec[task] + b->rec_size[task], 1, buffer, learn);
+	if (b->rec[task]) pvs__rec_decode(&f, b->rec[task], b->rec[task] + b->rec_size[task], 1, buffer, 0, learn);
 	return buffer;
 }
 
@@ -24567,21 +24558,33 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
 	return best;
 }
 
+/* Decode's stack buffer: a file of at most 64 x this many objects is decoded in its order, then scattered once */
+#define PVS__DECODE_STACK_WORDS 256u
+
 PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t word_count) {
-	uint32_t chain[PVS_MAX_CHAIN + 1], n = 0;
+	uint32_t chain[PVS_MAX_CHAIN + 1], n = 0, i;
+	pvs_word ordered[PVS__DECODE_STACK_WORDS], *t = bits;
+	size_t words = PVS_BITSET_WORDS(f->object_count);
+	int in_order = f->private_.order_bits && words <= PVS__DECODE_STACK_WORDS;
 	pvs__rec r;
 	memset(bits, 0, word_count * sizeof(pvs_word));
+	if (in_order) memset(t = ordered, 0, words * sizeof(pvs_word));
 	for (;;) { /* cell to key: <= max_chain + 1 records (checked by open) */
 		pvs__record_at(f, cell, &r);
 		chain[n++] = cell;
 		if (r.base == PVS_NO_CELL) break;
 		cell = r.base;
 	}
-	pvs__rec_decode(f, r.body, r.end, 1, bits, NULL); /* key */
+	pvs__rec_decode(f, r.body, r.end, 1, t, in_order, NULL); /* key */
 	while (--n) { /* then each delta over its base */
 		pvs__record_at(f, chain[n - 1], &r);
-		pvs__rec_decode(f, r.body, r.end, 0, bits, NULL);
+		pvs__rec_decode(f, r.body, r.end, 0, t, in_order, NULL);
 	}
+	for (i = 0; in_order && i < words; ++i) /* no gathers through the order per changed word: one scatter */
+		for (; ordered[i]; ordered[i] &= ordered[i] - 1u) {
+			uint32_t o = pvs__order_at(f, 64 * i + pvs__ctz64(ordered[i]));
+			bits[o >> 6] |= (pvs_word)1 << (o & 63);
+		}
 }
 
 PVS_API pvs_result pvs_file_decode(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t word_count,
@@ -24631,7 +24634,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 		pvs__record_at(f, cell, &r);
 		if (r.base == c->cell) {
 			memcpy(c->scratch, c->bits, c->word_count * sizeof(pvs_word));
-			pvs__rec_decode(f, r.body, r.end, 0, c->scratch, NULL);
+			pvs__rec_decode(f, r.body, r.end, 0, c->scratch, 0, NULL);
 			for (w = 0; fn && w < 2 * c->word_count; ++w) { /* removals, then additions */
 				size_t i = w % c->word_count;
 				pvs_word x = w < c->word_count ? c->bits[i] & ~c->scratch[i] : c->scratch[i] & ~c->bits[i];
@@ -24666,7 +24669,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY (older releases: README.md, "History")
    =======
-   0.16.0 (2026-12-02) Format 4: record flags in context of base's word or byte (none, all, some): files 3-4% smaller.
+   0.16.1 (2026-12-02) Decoding in file order on the stack, one scatter: pvs_file_decode 25-35% faster.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.
