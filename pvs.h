@@ -24136,7 +24136,7 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 }
 
 /* MODL: context count, order width (0 or bits for object_count - 1), probabilities 1..4095, order's ids < object count;
-   unused bits 0. Repeated id only garbles PVSs, as any payload can */
+   unused bits 0. Repeated id only garbles PVSs (decode, cursor may differ), as any payload can */
 PVS__STATIC pvs_result pvs__open_model(pvs_file *f, const uint8_t *base, const uint8_t *m, uint32_t size,
 		pvs_error *err) {
 	uint64_t off = (uint64_t)(m - base), nbits;

@@ -40,6 +40,25 @@ void pvs_fuzz_fix_checksums(uint8_t *f, size_t size) {
 
 static int fuzz_open(const uint8_t *data, size_t size);
 
+/* The file's object order (MODL) names every object once. Open accepts a repeated id (it only garbles PVSs); then
+   decode, which works in the file's order, and the cursor's one-delta moves, in object ids, may garble differently. */
+static int order_is_permutation(const pvs_file *f) {
+    uint32_t w = f->private_.order_bits, k, j, o;
+    uint8_t *seen;
+    int ok = 1;
+    if (!w) return 1;
+    seen = (uint8_t *)calloc(f->object_count, 1);
+    if (!seen) return 0;
+    for (k = 0; ok && k < f->object_count; ++k) {
+        uint64_t at = (uint64_t)k * w;
+        for (o = 0, j = 0; j < w; ++j, ++at) o |= (uint32_t)(f->private_.order[at >> 3] >> (at & 7u) & 1u) << j;
+        ok = o < f->object_count && !seen[o];
+        if (ok) seen[o] = 1;
+    }
+    free(seen);
+    return ok;
+}
+
 /* The input as it is, then with repaired checksums. Returns the first result. */
 int pvs_fuzz_one(const uint8_t *data, size_t size) {
     int r = fuzz_open(data, size);
@@ -69,6 +88,7 @@ static int fuzz_open(const uint8_t *data, size_t size) {
            records of object_count bits): inputs declaring 459,133 objects took 2 s a unit under ASan */
         uint64_t fit = ((uint64_t)1 << 23) / ((uint64_t)f.object_count * (f.max_chain + 1u));
         uint32_t c, n = f.cell_count < 4096 ? f.cell_count : 4096;
+        int agree = order_is_permutation(&f);
         if (n > fit) n = fit ? (uint32_t)fit : 1u;
         if (bits && cur && scratch && pvs_cursor_init(&cursor, &f, cur, scratch, words, NULL) == PVS_OK) {
             for (c = 0; c < n; ++c) {
@@ -83,7 +103,7 @@ static int fuzz_open(const uint8_t *data, size_t size) {
                 if (info.depth > f.max_chain) abort();
                 if (pvs_cursor_move(&cursor, (c * 7919u) % f.cell_count, NULL, NULL) != PVS_OK) abort();
                 if (pvs_cursor_move(&cursor, c, NULL, NULL) != PVS_OK) abort();
-                if (memcmp(cur, bits, words * sizeof(pvs_word))) abort(); /* the cursor agrees with decode */
+                if (agree && memcmp(cur, bits, words * sizeof(pvs_word))) abort(); /* the cursor agrees with decode */
             }
             if (f.vocc_flags & PVS_VOCC_STORED) { /* virtual occluders: decode them, rebuild a few cells */
                 static uint8_t vscratch[1 << 17];

@@ -266,6 +266,29 @@ static void test_grouped_order(void) {
             CHECK(pvs_cursor_move(&cursor, next, NULL, NULL) == PVS_OK && memcmp(cur, pvs + next * words, words * sizeof(pvs_word)) == 0);
         }
         CHECK(cursor.full_moves > 0);
+        if (buf) { /* a repeated id in the order (open accepts it): garbled sets of valid ids, decode and cursor safe */
+            uint32_t s, sections = (uint32_t)buf[12] | (uint32_t)buf[13] << 8, patched = 0;
+            for (s = 0; s < sections; ++s)
+                if (!memcmp(buf + 32 + 16 * s, "MODL", 4)) {
+                    uint8_t *order = buf + ((uint32_t)buf[36 + 16 * s] | (uint32_t)buf[37 + 16 * s] << 8 |
+                                            (uint32_t)buf[38 + 16 * s] << 16 | (uint32_t)buf[39 + 16 * s] << 24) + 184;
+                    uint32_t j, w = f.private_.order_bits; /* position 1 names position 0's object */
+                    patched = w > 0;
+                    for (j = 0; j < w; ++j) {
+                        uint32_t bit = order[j >> 3] >> (j & 7) & 1u, at = w + j;
+                        order[at >> 3] = (uint8_t)((order[at >> 3] & ~(1u << (at & 7))) | bit << (at & 7));
+                    }
+                }
+            CHECK(patched);
+            pvs_fuzz_fix_checksums(buf, size);
+            CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK);
+            CHECK(pvs_cursor_init(&cursor, &f, cur, scratch, words, &e) == PVS_OK);
+            for (c = 0; c < CELLS; ++c) {
+                CHECK(pvs_file_decode(&f, c, got, words, &e) == PVS_OK);
+                CHECK(pvs_bitset_count(got, objects) <= objects && (objects % 64 == 0 || !(got[words - 1] >> (objects % 64))));
+                CHECK(pvs_cursor_move(&cursor, (c * 17u) % CELLS, NULL, NULL) == PVS_OK);
+            }
+        }
         free(buf);
         free(pvs);
         free(got);
