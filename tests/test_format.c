@@ -227,76 +227,6 @@ static void check_table(uint32_t cells, uint32_t objects, uint32_t density, uint
     free(expect);
 }
 
-/* Objects in groups seen together, ids interleaved: the order pays. Decoded in file order on decode's stack (up to
-   16,384 objects) and through the order above that, both against the table and the cursor. */
-static void test_grouped_order(void) {
-    static const uint32_t counts[] = {5000, 20000};
-    enum { CELLS = 40, GROUPS = 60 };
-    size_t n;
-    for (n = 0; n < sizeof(counts) / sizeof(counts[0]); ++n) {
-        uint32_t objects = counts[n], c, o, i, seen[GROUPS];
-        size_t words = PVS_BITSET_WORDS(objects), size;
-        pvs_word *pvs = (pvs_word *)calloc(CELLS * words, sizeof(pvs_word)), *got = (pvs_word *)malloc(words * sizeof(pvs_word)),
-                 *cur = (pvs_word *)malloc(words * sizeof(pvs_word)), *scratch = (pvs_word *)malloc(words * sizeof(pvs_word));
-        pvs_box boxes[CELLS];
-        pvs_file_desc d;
-        pvs_file f;
-        pvs_error e;
-        pvs_cursor cursor;
-        uint8_t *buf;
-        for (i = 0; i < GROUPS; ++i) seen[i] = rnd() % 3 == 0;
-        for (c = 0; c < CELLS; ++c) {
-            int k;
-            for (k = 0; k < 3; ++k) {
-                boxes[c].min[k] = (float)(k == 0 ? c : 0) * 2.0f;
-                boxes[c].max[k] = boxes[c].min[k] + 2.0f;
-            }
-            for (i = 0; i < GROUPS; ++i)
-                if (rnd() % 8 == 0) seen[i] ^= 1u; /* a neighbour sees much the same */
-            for (o = 0; o < objects; ++o)
-                if (seen[(o * 7919u) % GROUPS]) pvs_bitset_set(pvs + c * words, o);
-        }
-        desc_init(&d, boxes, CELLS, objects, pvs);
-        buf = encode(&d, &size);
-        CHECK(buf && pvs_file_open(buf, size, &f, &e) == PVS_OK && f.private_.order_bits != 0);
-        CHECK(buf && pvs_cursor_init(&cursor, &f, cur, scratch, words, &e) == PVS_OK);
-        for (c = 0; buf && c < CELLS; ++c) {
-            uint32_t next = (c * 17u) % CELLS;
-            CHECK(pvs_file_decode(&f, c, got, words, &e) == PVS_OK && memcmp(got, pvs + c * words, words * sizeof(pvs_word)) == 0);
-            CHECK(pvs_cursor_move(&cursor, next, NULL, NULL) == PVS_OK && memcmp(cur, pvs + next * words, words * sizeof(pvs_word)) == 0);
-        }
-        CHECK(cursor.full_moves > 0);
-        if (buf) { /* a repeated id in the order (open accepts it): garbled sets of valid ids, decode and cursor safe */
-            uint32_t s, sections = (uint32_t)buf[12] | (uint32_t)buf[13] << 8, patched = 0;
-            for (s = 0; s < sections; ++s)
-                if (!memcmp(buf + 32 + 16 * s, "MODL", 4)) {
-                    uint8_t *order = buf + ((uint32_t)buf[36 + 16 * s] | (uint32_t)buf[37 + 16 * s] << 8 |
-                                            (uint32_t)buf[38 + 16 * s] << 16 | (uint32_t)buf[39 + 16 * s] << 24) + 184;
-                    uint32_t j, w = f.private_.order_bits; /* position 1 names position 0's object */
-                    patched = w > 0;
-                    for (j = 0; j < w; ++j) {
-                        uint32_t bit = order[j >> 3] >> (j & 7) & 1u, at = w + j;
-                        order[at >> 3] = (uint8_t)((order[at >> 3] & ~(1u << (at & 7))) | bit << (at & 7));
-                    }
-                }
-            CHECK(patched);
-            pvs_fuzz_fix_checksums(buf, size);
-            CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK);
-            CHECK(pvs_cursor_init(&cursor, &f, cur, scratch, words, &e) == PVS_OK);
-            for (c = 0; c < CELLS; ++c) {
-                CHECK(pvs_file_decode(&f, c, got, words, &e) == PVS_OK);
-                CHECK(pvs_bitset_count(got, objects) <= objects && (objects % 64 == 0 || !(got[words - 1] >> (objects % 64))));
-                CHECK(pvs_cursor_move(&cursor, (c * 17u) % CELLS, NULL, NULL) == PVS_OK);
-            }
-        }
-        free(buf);
-        free(pvs);
-        free(got);
-        free(cur);
-        free(scratch);
-    }
-}
-
 static void test_round_trip(void) {
     static const uint32_t shapes[][7] = {
         /* cells, objects, density %, change %, overlap, K, truncations */
@@ -462,6 +392,66 @@ static void tbits_put(uint8_t *s, uint64_t pos, uint32_t v, uint32_t w) {
     for (i = 0; i < w; ++i) {
         s[(pos + i) >> 3] &= (uint8_t)~(1u << ((pos + i) & 7u));
         s[(pos + i) >> 3] |= (uint8_t)(((v >> i) & 1u) << ((pos + i) & 7u));
+    }
+}
+
+/* Objects in groups seen together, ids interleaved: the order pays. Decoded in file order on decode's stack (up to
+   16,384 objects) and through the order above that, both against the table and the cursor. */
+static void test_grouped_order(void) {
+    static const uint32_t counts[] = {5000, 20000};
+    enum { CELLS = 40, GROUPS = 60 };
+    size_t n;
+    for (n = 0; n < sizeof(counts) / sizeof(counts[0]); ++n) {
+        uint32_t objects = counts[n], c, o, i, seen[GROUPS];
+        size_t words = PVS_BITSET_WORDS(objects), size;
+        pvs_word *pvs = (pvs_word *)calloc(CELLS * words, sizeof(pvs_word)), *got = (pvs_word *)malloc(words * sizeof(pvs_word)),
+                 *cur = (pvs_word *)malloc(words * sizeof(pvs_word)), *scratch = (pvs_word *)malloc(words * sizeof(pvs_word));
+        pvs_box boxes[CELLS];
+        pvs_file_desc d;
+        pvs_file f;
+        pvs_error e;
+        pvs_cursor cursor;
+        uint8_t *buf;
+        for (i = 0; i < GROUPS; ++i) seen[i] = rnd() % 3 == 0;
+        for (c = 0; c < CELLS; ++c) {
+            int k;
+            for (k = 0; k < 3; ++k) {
+                boxes[c].min[k] = (float)(k == 0 ? c : 0) * 2.0f;
+                boxes[c].max[k] = boxes[c].min[k] + 2.0f;
+            }
+            for (i = 0; i < GROUPS; ++i)
+                if (rnd() % 8 == 0) seen[i] ^= 1u; /* a neighbour sees much the same */
+            for (o = 0; o < objects; ++o)
+                if (seen[(o * 7919u) % GROUPS]) pvs_bitset_set(pvs + c * words, o);
+        }
+        desc_init(&d, boxes, CELLS, objects, pvs);
+        buf = encode(&d, &size);
+        CHECK(buf && pvs_file_open(buf, size, &f, &e) == PVS_OK && f.private_.order_bits != 0);
+        CHECK(buf && pvs_cursor_init(&cursor, &f, cur, scratch, words, &e) == PVS_OK);
+        for (c = 0; buf && c < CELLS; ++c) {
+            uint32_t next = (c * 17u) % CELLS;
+            CHECK(pvs_file_decode(&f, c, got, words, &e) == PVS_OK && memcmp(got, pvs + c * words, words * sizeof(pvs_word)) == 0);
+            CHECK(pvs_cursor_move(&cursor, next, NULL, NULL) == PVS_OK && memcmp(cur, pvs + next * words, words * sizeof(pvs_word)) == 0);
+        }
+        CHECK(cursor.full_moves > 0);
+        if (buf) { /* a repeated id in the order (open accepts it): garbled sets of valid ids, decode and cursor safe */
+            uint32_t md = section(buf, "MODL"), w = f.private_.order_bits;
+            CHECK(md != 0 && w != 0);
+            tbits_put(buf + md + 8 + 2 * 88, w, tbits(buf + md + 8 + 2 * 88, 0, w), w); /* position 1 names 0's object */
+            pvs_fuzz_fix_checksums(buf, size);
+            CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK);
+            CHECK(pvs_cursor_init(&cursor, &f, cur, scratch, words, &e) == PVS_OK);
+            for (c = 0; c < CELLS; ++c) {
+                CHECK(pvs_file_decode(&f, c, got, words, &e) == PVS_OK);
+                CHECK(objects % 64 == 0 || !(got[words - 1] >> (objects % 64)));
+                CHECK(pvs_cursor_move(&cursor, (c * 17u) % CELLS, NULL, NULL) == PVS_OK);
+            }
+        }
+        free(buf);
+        free(pvs);
+        free(got);
+        free(cur);
+        free(scratch);
     }
 }
 
