@@ -6896,8 +6896,8 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
    2D nearest occluder; 2.5D those maybe seen over). Line sets: convex polygons of unit vectors; edges keep plane's
    point, marked if on path (§4.10.1): out-leaf becomes e-OT of unmarked edges (§3.3.3). Conservative: stored points'
    exact planes bound regions, insertion drops only blocked slivers, read-only tests split with slack, unclear depth
-   order is visible. Doubles, cell-centred. Users: pvs_visibility_2d (exact), pvs_visibility_25d, OTREE bake;
-   pvs_otree_cull has own 3D kernel */
+   order is visible. Doubles, cell-centred. Users: pvs_visibility_2d (exact, ch. 6), pvs_visibility_25d (c-LSS, ch. 7),
+   OTREE bake; pvs_otree_cull (ch. 4) has own 3D kernel */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT25_WITNESSES 16
