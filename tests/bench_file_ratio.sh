@@ -1,7 +1,9 @@
 #!/bin/sh
 # make bench (issue 30): the .pvs file against general-purpose compressors applied to its own raw bit
 # table (pvsinfo --raw: cells x ceil(objects / 8) bytes), on generator scenes baked with auto and on
-# the OpenArena maps' whole-level bakes that tests/bench_maps.sh leaves in $B/maps (run it first):
+# the OpenArena maps' whole-level bakes that tests/bench_maps.sh leaves in $B/maps (run it first) and on
+# three Doom maps (package freedoom: Freedoom's E1M1 and MAP01, FreeDM's MAP01), every subsector a cell, and
+# on oa_dm7's walkable cells (pvsbake --cells walkable):
 #   BENCH file_ratio_raw_SCENE    the file over the raw table
 #   BENCH file_ratio_gzip_SCENE   the file over gzip -9 of the raw table
 #   BENCH file_ratio_xz_SCENE     the file over xz -9 of the raw table
@@ -9,8 +11,9 @@
 #                                 as is, but a run of up to 255 zero bytes as a 0 and its length; rows apart)
 #   BENCH file_ratio_gzip_nolookup_MAP  the maps' files without cell boxes and look-up (pvsbake merge
 #                                 --no-lookup: engines that find their cells themselves) over gzip -9 of the table
-# then the means over the scenes measured. The generator scenes are baked without object names (--no-names:
-# identity, not visibility; the raw table holds none either). A compressor not installed is skipped with a message.
+# then the means over the scenes measured, and file_ratio_gzip_levels_mean over the real levels alone. The
+# scenes are baked without object names (--no-names: identity, not visibility; the raw table holds none either).
+# A compressor or a package not installed is skipped with a message.
 set -u
 B=${B:-build}
 T=$B/file-ratio
@@ -45,16 +48,37 @@ for s in "city 0.5" "indoor 1" "building 0.5" "walls 1" "forest 0.5" "soup 1"; d
     { echo "pvsbake $1 failed"; exit 1; }
   ratio "$T/$1.pvs" "$1"
 done
-for p in "$B"/maps/*.whole.pvs; do
-  [ -f "$p" ] || { echo "bench_file_ratio: no whole-level map bakes in $B/maps (tests/bench_maps.sh): real levels skipped"; break; }
-  m=$(basename "$p" .whole.pvs)
-  ratio "$p" "$m"
-  if [ $have_gzip -eq 1 ] && "$B/pvsbake" merge --no-lookup -o "$T/$m.nolookup.pvs" "$p" 2> /dev/null; then
-    f=$(wc -c < "$T/$m.nolookup.pvs"); g=$(gzip -9 -c "$T/raw.bin" | wc -c)
-    echo "BENCH file_ratio_gzip_nolookup_$m $(awk "BEGIN { printf \"%.2f\", $f / $g }") ratio"
+: > "$T/levels.txt"
+level() { # FILE.pvs LABEL: a real level, also without its look-up
+  ratio "$1" "$2" || return
+  [ $have_gzip -eq 1 ] && tail -1 "$sums" | awk '{ print $1, $3 }' >> "$T/levels.txt"
+  if [ $have_gzip -eq 1 ] && "$B/pvsbake" merge --no-lookup -o "$T/$2.nolookup.pvs" "$1" 2> /dev/null; then
+    f=$(wc -c < "$T/$2.nolookup.pvs"); g=$(gzip -9 -c "$T/raw.bin" | wc -c)
+    echo "BENCH file_ratio_gzip_nolookup_$2 $(awk "BEGIN { printf \"%.2f\", $f / $g }") ratio"
     echo "$f $g" >> "$T/nolookup.txt"
   fi
+}
+for p in "$B"/maps/*.whole.pvs; do
+  [ -f "$p" ] || { echo "bench_file_ratio: no whole-level map bakes in $B/maps (tests/bench_maps.sh): Quake 3 levels skipped"; break; }
+  level "$p" "$(basename "$p" .whole.pvs)"
 done
+# oa_dm7 on the cells a camera can walk to (pvsbake --cells walkable in Quake 3's units), not one per BSP leaf
+if [ -f "$B/maps/oa_dm7.obj" ] && "$B/pvsbake" -q "$B/maps/oa_dm7.obj" --cells walkable --eye-height 50 \
+     --step-height 18 -o "$T/oa_dm7_walkable.pvs" -j 2 --no-state --no-names 2> /dev/null; then
+  level "$T/oa_dm7_walkable.pvs" oa_dm7_walkable
+fi
+DOOM=${PVS_DOOM_DIR:-/usr/share/games/doom}
+for s in "freedoom1 E1M1" "freedoom2 MAP01" "freedm MAP01"; do
+  set -- $s
+  [ -r "$DOOM/$1.wad" ] || { echo "bench_file_ratio: $DOOM/$1.wad not found (apt install freedoom): skipped"; continue; }
+  m=$(echo "$1_$2" | tr 'A-Z' 'a-z')
+  "$B/pvsimport" "$DOOM/$1.wad" --map "$2" -o "$T/$m.obj" --cells "$T/$m.cells" -q > /dev/null 2>&1 &&
+    "$B/pvsbake" -q "$T/$m.obj" --cells "$T/$m.cells" -o "$T/$m.pvs" -j 2 --no-state --no-names 2> /dev/null ||
+    { echo "bench_file_ratio: $1 $2: import or bake failed"; continue; }
+  level "$T/$m.pvs" "$m"
+done
+[ -s "$T/levels.txt" ] && awk '{ r += $1 / $2; n++ } END { printf "BENCH file_ratio_gzip_levels_mean %.2f ratio\n", r / n }' "$T/levels.txt"
+rm -f "$T/levels.txt"
 [ -f "$T/nolookup.txt" ] && awk '{ r += $1 / $2; n++ } END { if (n) printf "BENCH file_ratio_gzip_nolookup_mean %.2f ratio\n", r / n }' "$T/nolookup.txt" && rm -f "$T/nolookup.txt"
 awk '{ n++; if ($3 > 0) { g += $1 / $3; ng++ } if ($4 > 0) { x += $1 / $4; nx++ } if ($5 > 0) { z += $1 / $5; nz++ }
        r += $1 / $2 }
