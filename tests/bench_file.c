@@ -51,7 +51,7 @@ static double decode_us(const pvs_file *f, pvs_word *bits, size_t words) {
 }
 
 /* Seconds 10 look-ups of each of 100,000 points take: the best of 5 such runs (a shared machine's noise) */
-static double find_cell_s(const pvs_file *f, const float (*pts)[3], uint32_t *hits) {
+static double find_cell_s(const pvs_file *f, float (*pts)[3], uint32_t *hits) {
     double best = 1e30;
     int r, c, i;
     for (r = 0; r < 5; ++r) {

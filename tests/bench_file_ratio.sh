@@ -49,14 +49,14 @@ for s in "city 0.5" "indoor 1" "building 0.5" "walls 1" "forest 0.5" "soup 1"; d
   ratio "$T/$1.pvs" "$1"
 done
 : > "$T/levels.txt"
-level() { # FILE.pvs LABEL: a real level, also without its look-up
+level() { # FILE.pvs LABEL: a real level, also without its look-up (ratio's f and g: file, gzip -9 of its table)
   ratio "$1" "$2" || return
-  [ $have_gzip -eq 1 ] && tail -1 "$sums" | awk '{ print $1, $3 }' >> "$T/levels.txt"
-  if [ $have_gzip -eq 1 ] && "$B/pvsbake" merge --no-lookup -o "$T/$2.nolookup.pvs" "$1" 2> /dev/null; then
-    f=$(wc -c < "$T/$2.nolookup.pvs"); g=$(gzip -9 -c "$T/raw.bin" | wc -c)
-    echo "BENCH file_ratio_gzip_nolookup_$2 $(awk "BEGIN { printf \"%.2f\", $f / $g }") ratio"
-    echo "$f $g" >> "$T/nolookup.txt"
-  fi
+  [ "$g" -gt 0 ] || return 0
+  echo "$f $g" >> "$T/levels.txt"
+  "$B/pvsbake" merge --no-lookup -o "$T/$2.nolookup.pvs" "$1" 2> /dev/null || return 0
+  n=$(wc -c < "$T/$2.nolookup.pvs")
+  echo "BENCH file_ratio_gzip_nolookup_$2 $(awk "BEGIN { printf \"%.2f\", $n / $g }") ratio"
+  echo "$n $g" >> "$T/nolookup.txt"
 }
 for p in "$B"/maps/*.whole.pvs; do
   [ -f "$p" ] || { echo "bench_file_ratio: no whole-level map bakes in $B/maps (tests/bench_maps.sh): Quake 3 levels skipped"; break; }

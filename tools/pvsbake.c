@@ -578,12 +578,9 @@ static int walkable_cells(const bake_options *o, const pvs_scene *scene, mesh_ce
     if (len > 4 && !strcmp(path + len - 4, ".pvs")) path[len - 4] = '\0';
     strcat(path, ".walkable.cells");
     if (write_stream_atomic(path, write_cells, cells, te)) goto done;
-    if (!o->quiet) { /* the defaults are in metres: say which sizes ran, for scenes in other units */
-        float eye = o->eye_height > 0.0f ? o->eye_height : 1.8f;
-        fprintf(stderr, "walkable: %u cells (ground squares of %g, eye height %g, in scene units: --eye-height scales "
-                "the metre defaults), written to %s\n", n, o->walk_size > 0.0f ? o->walk_size : 4.0f * eye / 1.8f,
-                eye, path);
-    }
+    if (!o->quiet) /* pvs_walkable_desc's defaults are metres: say so where they ran */
+        fprintf(stderr, "walkable: %u cells%s, written to %s\n", n,
+                o->eye_height > 0.0f ? "" : " (sizes for a scene in metres: in other units give --eye-height)", path);
     rc = 0;
 done:
     free(path);
