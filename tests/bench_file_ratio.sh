@@ -2,7 +2,7 @@
 # make bench (issue 30): the .pvs file against general-purpose compressors applied to its own raw bit
 # table (pvsinfo --raw: cells x ceil(objects / 8) bytes), on generator scenes baked with auto and on
 # the OpenArena maps' whole-level bakes that tests/bench_maps.sh leaves in $B/maps (run it first) and on
-# three Doom maps (package freedoom: Freedoom's E1M1 and MAP01, FreeDM's MAP01), every subsector a cell, and
+# three Doom maps (packages freedoom, freedm: Freedoom's E1M1 and MAP01, FreeDM's MAP01), every subsector a cell, and
 # on oa_dm7's walkable cells (pvsbake --cells walkable):
 #   BENCH file_ratio_raw_SCENE    the file over the raw table
 #   BENCH file_ratio_gzip_SCENE   the file over gzip -9 of the raw table
@@ -68,9 +68,9 @@ if [ -f "$B/maps/oa_dm7.obj" ] && "$B/pvsbake" -q "$B/maps/oa_dm7.obj" --cells w
   level "$T/oa_dm7_walkable.pvs" oa_dm7_walkable
 fi
 DOOM=${PVS_DOOM_DIR:-/usr/share/games/doom}
-for s in "freedoom1 E1M1" "freedoom2 MAP01" "freedm MAP01"; do
+for s in "freedoom1 E1M1 freedoom" "freedoom2 MAP01 freedoom" "freedm MAP01 freedm"; do
   set -- $s
-  [ -r "$DOOM/$1.wad" ] || { echo "bench_file_ratio: $DOOM/$1.wad not found (apt install freedoom): skipped"; continue; }
+  [ -r "$DOOM/$1.wad" ] || { echo "bench_file_ratio: $DOOM/$1.wad not found (apt install $3): skipped"; continue; }
   m=$(echo "$1_$2" | tr 'A-Z' 'a-z')
   "$B/pvsimport" "$DOOM/$1.wad" --map "$2" -o "$T/$m.obj" --cells "$T/$m.cells" -q > /dev/null 2>&1 &&
     "$B/pvsbake" -q "$T/$m.obj" --cells "$T/$m.cells" -o "$T/$m.pvs" -j 2 --no-state --no-names 2> /dev/null ||
