@@ -21,7 +21,7 @@ mkdir -p "$T"
 have_gzip=1; command -v gzip > /dev/null || { have_gzip=0; echo "bench_file_ratio: gzip not found: file_ratio_gzip skipped"; }
 have_xz=1; command -v xz > /dev/null || { have_xz=0; echo "bench_file_ratio: xz not found: file_ratio_xz skipped"; }
 sums=$T/sums.txt
-: > "$sums"; rm -f "$T/nolookup.txt"
+: > "$sums"; rm -f "$T/nolookup.txt" "$T/levels.txt"
 ratio() { # FILE.pvs LABEL
   "$B/pvsinfo" --raw "$1" "$T/raw.bin" || return
   f=$(wc -c < "$1"); r=$(wc -c < "$T/raw.bin")
@@ -48,7 +48,6 @@ for s in "city 0.5" "indoor 1" "building 0.5" "walls 1" "forest 0.5" "soup 1"; d
     { echo "pvsbake $1 failed"; exit 1; }
   ratio "$T/$1.pvs" "$1"
 done
-: > "$T/levels.txt"
 level() { # FILE.pvs LABEL: a real level, also without its look-up (ratio's f and g: file, gzip -9 of its table)
   ratio "$1" "$2" || return
   [ "$g" -gt 0 ] || return 0
@@ -77,9 +76,12 @@ for s in "freedoom1 E1M1 freedoom" "freedoom2 MAP01 freedoom" "freedm MAP01 free
     { echo "bench_file_ratio: $1 $2: import or bake failed"; continue; }
   level "$T/$m.pvs" "$m"
 done
-[ -s "$T/levels.txt" ] && awk '{ r += $1 / $2; n++ } END { printf "BENCH file_ratio_gzip_levels_mean %.2f ratio\n", r / n }' "$T/levels.txt"
-rm -f "$T/levels.txt"
-[ -f "$T/nolookup.txt" ] && awk '{ r += $1 / $2; n++ } END { if (n) printf "BENCH file_ratio_gzip_nolookup_mean %.2f ratio\n", r / n }' "$T/nolookup.txt" && rm -f "$T/nolookup.txt"
+mean() { # FILE NAME: BENCH NAME, the mean of FILE's lines' file / gzip; FILE removed
+  [ -s "$1" ] && awk -v name="$2" '{ r += $1 / $2; n++ } END { printf "BENCH %s %.2f ratio\n", name, r / n }' "$1"
+  rm -f "$1"
+}
+mean "$T/levels.txt" file_ratio_gzip_levels_mean
+mean "$T/nolookup.txt" file_ratio_gzip_nolookup_mean
 awk '{ n++; if ($3 > 0) { g += $1 / $3; ng++ } if ($4 > 0) { x += $1 / $4; nx++ } if ($5 > 0) { z += $1 / $5; nz++ }
        r += $1 / $2 }
      END { if (n) printf "BENCH file_ratio_raw_mean %.3f ratio\n", r / n;
