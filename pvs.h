@@ -10158,10 +10158,8 @@ PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const doubl
 		if (lo > hs[i] || hi < -hs[i]) return 0;
 	}
 	PVS__FOR3(i) { e[0][i] = v[1][i] - v[0][i]; e[1][i] = v[2][i] - v[1][i]; e[2][i] = v[0][i] - v[2][i]; }
-	n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
-	n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
-	n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
-	p = n[0] * v[0][0] + n[1] * v[0][1] + n[2] * v[0][2];
+	pvs__sv_cross(e[0], e[1], n);
+	p = pvs__sv_dot(n, v[0]);
 	rad = hs[0] * pvs__dabs(n[0]) + hs[1] * pvs__dabs(n[1]) + hs[2] * pvs__dabs(n[2]);
 	if (p > rad * (1.0 + 1e-9) + 1e-300 || p < -rad * (1.0 + 1e-9) - 1e-300) return 0;
 	PVS__FOR3(i) /* edge i x box axis j */
@@ -11101,11 +11099,9 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
 		hs[kk] = 0.5 * ((double)cb->max[kk] - cb->min[kk]) + fb->m;
 	}
 	for (t = tp->comp_first[fb->comp]; t < tp->comp_first[fb->comp + 1] && !touches; ++t) {
-		uint32_t tri = tp->tris[t], e;
 		double pt[3][3];
 		int out = 0;
-		PVS__FOR3(e)
-			PVS__FOR3(kk) pt[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + e] + kk];
+		pvs__vx_tri_points(s, tp->tris[t], pt);
 		for (kk = 0; kk < 3 && !out; ++kk)
 			out = pvs__dmin(pt[0][kk], pvs__dmin(pt[1][kk], pt[2][kk])) > cc[kk] + hs[kk] ||
 				  pvs__dmax(pt[0][kk], pvs__dmax(pt[1][kk], pt[2][kk])) < cc[kk] - hs[kk];
@@ -11275,16 +11271,13 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
 PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
 		const uint32_t hi[3], double m, pvs__vx_flood *fl) {
 	uint32_t d[3], i, j, k;
-	size_t stride[3];
-	const uint8_t *bits = fl->bits;
+	const uint8_t *bits = fl->bits; /* box voxels in order below */
 	int ext = pvs__vx_flood_component(o, &o->grid, tp, comp, lo, hi, m, fl, 1);
 	PVS__FOR3(k) d[k] = hi[k] - lo[k] + 1;
-	stride[1] = d[0];
-	stride[2] = (size_t)d[0] * d[1];
 	for (k = 0; k < d[2]; ++k)
 		for (j = 0; j < d[1]; ++j)
 			for (i = 0; i < d[0]; ++i) {
-				uint8_t f = bits[i + stride[1] * j + stride[2] * k];
+				uint8_t f = *bits++;
 				if (f & (PVS__G_T | PVS__G_B)) continue;
 				if (f & ((f & PVS__G_W) ? PVS__G_R1 : PVS__G_R0)) continue;
 				o->state[pvs__vx_index(o, lo[0] + i, lo[1] + j, lo[2] + k)] |= PVS__VX_SOLID;
@@ -11362,9 +11355,7 @@ PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
 	int k;
 	tv->zlo = pvs__dmin(a[up], pvs__dmin(b[up], c[up]));
 	PVS__FOR3(k) { e1[k] = b[k] - a[k]; e2[k] = c[k] - a[k]; }
-	n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-	n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-	n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+	pvs__sv_cross(e1, e2, n);
 	mag = pvs__dabs(n[0]) + pvs__dabs(n[1]) + pvs__dabs(n[2]);
 	tv->sloped = pvs__dabs(n[up]) > 1e-3 * mag; /* slope < 1000: plane bound useful */
 	if (!tv->sloped) return;
@@ -11610,6 +11601,7 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 				size_t first;
 				int d = side;
 				float *pt;
+				pvs_facade_chain *ch;
 				int64_t area2 = 0;
 				if (PVS__IN((int)i + ni[side], (int)j + nj[side])) continue;
 				vx = i + (uint32_t)v0i[side];
@@ -11666,12 +11658,12 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 					!pvs__grow(al, (void **)&cb->first, &cb->cap_first, cb->count + 1, sizeof(size_t)))
 					return 0;
 				cb->first[cb->count] = first;
-				cb->chains[cb->count].points = NULL;
-				cb->chains[cb->count].point_count = (uint32_t)(cb->npts - first);
-				cb->chains[cb->count].closed = area2 > 0;
-				cb->chains[cb->count].base = base;
-				cb->chains[cb->count].top = top;
-				++cb->count;
+				ch = cb->chains + cb->count++;
+				ch->points = NULL;
+				ch->point_count = (uint32_t)(cb->npts - first);
+				ch->closed = area2 > 0;
+				ch->base = base;
+				ch->top = top;
 			}
 		}
 #undef PVS__IN
@@ -12025,7 +12017,6 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 				gk.origin[k] = (double)ext->min[k] - hk;
 				gk.n[k] = (uint32_t)(floor(((double)ext->max[k] - ext->min[k]) / hk) + 3.0);
 			}
-			gk.origin[up] = g - hk;
 			vol = pvs__vx_comp_box(s, tp, comp, &gk, m, lo, hi);
 			if (vol <= PVS__VX_BOX_BUDGET) break;
 			hk *= 1.26;
@@ -12130,17 +12121,12 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	o->scene = b->s;
 	o->h = h;
 	o->ground = (float)b->g;
-	PVS__FOR3(kk) {
-		o->n[kk] = (uint32_t)(floor(((double)b->ext.max[kk] - b->ext.min[kk]) / h) + 3.0);
-		o->origin[kk] = (double)b->ext.min[kk] - h;
+	PVS__FOR3(kk) { /* origin[up]: ground - h */
+		o->grid.n[kk] = o->n[kk] = (uint32_t)(floor(((double)b->ext.max[kk] - b->ext.min[kk]) / h) + 3.0);
+		o->grid.origin[kk] = o->origin[kk] = (double)b->ext.min[kk] - h;
 		total *= o->n[kk];
 	}
-	o->origin[up] = b->g - h;
 	o->total = b->total = total;
-	PVS__FOR3(kk) {
-		o->grid.origin[kk] = o->origin[kk];
-		o->grid.n[kk] = o->n[kk];
-	}
 	o->grid.h = h;
 	o->state = PVS__ALLOC_N(a, uint8_t, total);
 	o->eroded = PVS__ALLOC_N(a, uint8_t, total);
@@ -12604,19 +12590,16 @@ PVS__STATIC int pvs__walk_inside(const pvs__walk *k, const float p[3]) {
 PVS__STATIC pvs_result pvs__walk_solids(pvs__walk *k, pvs_error *err) {
 	const pvs_scene *s = k->s;
 	pvs_kdtree_desc kd;
-	uint32_t c, t;
+	uint32_t c, t, j;
 	if (pvs__vx_topology(s, s->bounds.min[k->up], &k->d.allocator, &k->tp) != PVS_OK) return PVS__OOM(err, "meshes");
 	k->cbox = PVS__ALLOC_N(&k->d.allocator, pvs_box, k->tp.comp_count + 1);
 	if (!k->cbox) return PVS__OOM(err, "mesh boxes");
 	for (c = 0; c < k->tp.comp_count; ++c) { /* closed, or open only around base: on floor */
 		float base;
 		k->cbox[c] = pvs__box_empty();
-		for (t = k->tp.comp_first[c]; t < k->tp.comp_first[c + 1]; ++t) {
-			const uint32_t *ix = s->indices + 3 * (size_t)k->tp.tris[t];
-			pvs__box_add_point(k->cbox + c, s->positions + 3 * (size_t)ix[0]);
-			pvs__box_add_point(k->cbox + c, s->positions + 3 * (size_t)ix[1]);
-			pvs__box_add_point(k->cbox + c, s->positions + 3 * (size_t)ix[2]);
-		}
+		for (t = k->tp.comp_first[c]; t < k->tp.comp_first[c + 1]; ++t)
+			PVS__FOR3(j)
+				pvs__box_add_point(k->cbox + c, s->positions + 3 * (size_t)s->indices[3 * (size_t)k->tp.tris[t] + j]);
 		base = k->cbox[c].min[k->up];
 		for (t = k->tp.open_first[c]; t < k->tp.open_first[c + 1]; ++t)
 			if (k->tp.open_edges[6 * (size_t)t + k->up] != base || k->tp.open_edges[6 * (size_t)t + 3 + k->up] != base)
@@ -12656,25 +12639,16 @@ PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	dir[k->up] = -1.0f;
 	for (hits = 0; hits < 256; ++hits) {
 		pvs_hit hit;
-		double e1[3], e2[3], nrm[3];
-		const uint32_t *tri;
-		int j;
+		double nrm[3];
 		pvs__walk_point(k, col, top - t, o);
 		if (t >= range || !pvs_scene_raycast(s, o, dir, (float)(range - t), &hit)) break;
 		t += hit.t;
-		tri = s->indices + 3 * (size_t)hit.triangle;
-		PVS__FOR3(j) {
-			e1[j] = (double)s->positions[3 * (size_t)tri[1] + j] - s->positions[3 * (size_t)tri[0] + j];
-			e2[j] = (double)s->positions[3 * (size_t)tri[2] + j] - s->positions[3 * (size_t)tri[0] + j];
-		}
-		nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
-		nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
-		nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+		pvs__tri_normal(s, hit.triangle, nrm);
 		pvs__walk_point(k, col, top - t, p);
 		memcpy(a, p, sizeof(a));
 		a[k->up] = (float)(top - t + k->eps);
 		p[k->up] = (float)(top - t + k->d.head_room);
-		if (pvs__dabs(nrm[k->up]) >= cmin * sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]) &&
+		if (pvs__dabs(nrm[k->up]) >= cmin * sqrt(pvs__sv_dot(nrm, nrm)) &&
 			!pvs_scene_segment_blocked(s, a, p) &&
 			!(p[k->up] = (float)(top - t + 0.5 * k->d.head_room), pvs__walk_inside(k, p))) {
 			p[k->up] = (float)(top - t);
@@ -13052,12 +13026,6 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 #define PVS__VO_MAXG 64u /* max objects per aggregate */
 #define PVS__VO_MAXSTEP 96u /* max candidates per seed */
 
-PVS__STATIC int pvs__vo_reserve(const pvs_allocator *a, void **p, uint32_t *cap, size_t need, size_t elem) {
-	size_t c = *cap;
-	if (need > 0x7fffffffu || !pvs__grow(a, p, &c, need, elem)) return 0;
-	*cap = (uint32_t)c;
-	return 1;
-}
 #define PVS__VO_FREE(a, p, cap, T) pvs__free((a), (p), (size_t)(cap) * sizeof(T), 16)
 
 /* Monotone pseudo-angle of (cos-like d, sin-like c): (-2, 2], 0 along d */
@@ -13134,6 +13102,10 @@ PVS__STATIC void pvs__vprep_destroy(pvs__vprep *p) {
 	pvs__free(&p->a, p, sizeof(*p), 16);
 }
 
+PVS__STATIC void pvs__vo_bb_empty(double *bb) {
+	bb[0] = bb[1] = DBL_MAX;
+	bb[2] = bb[3] = -DBL_MAX;
+}
 PVS__STATIC void pvs__vo_bb_add(double *bb, const double *p) {
 	if (p[0] < bb[0]) bb[0] = p[0];
 	if (p[1] < bb[1]) bb[1] = p[1];
@@ -13222,8 +13194,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 			continue;
 		}
 		p->loop_top[l] = FLT_MAX;
-		p->loop_bb[4 * l] = p->loop_bb[4 * l + 1] = DBL_MAX;
-		p->loop_bb[4 * l + 2] = p->loop_bb[4 * l + 3] = -DBL_MAX;
+		pvs__vo_bb_empty(p->loop_bb + 4 * l);
 		for (k = 0; k < count; ++k) {
 			if (p->seg_top[p->ring_seg[ring + k]] < p->loop_top[l]) p->loop_top[l] = p->seg_top[p->ring_seg[ring + k]];
 			pvs__vo_bb_add(p->loop_bb + 4 * l, p->ring_pt + 2 * (ring + k));
@@ -13258,15 +13229,15 @@ PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
 	}
 	for (i = 0; i < p->nseg; ++i) {
 		int32_t l = p->seg_loop[i];
+		double *bb = p->obj_bb + 4 * (size_t)p->nobj;
 		if (l >= 0) {
 			uint32_t hn = p->hull_start[l + 1] - p->hull_start[l];
 			if (hn >= 3 && hn <= PVS__VO_MAXH) continue;
 		}
 		p->obj_ref[p->nobj] = p->nloop + i;
-		p->obj_bb[4 * (size_t)p->nobj] = p->obj_bb[4 * (size_t)p->nobj + 1] = DBL_MAX;
-		p->obj_bb[4 * (size_t)p->nobj + 2] = p->obj_bb[4 * (size_t)p->nobj + 3] = -DBL_MAX;
-		pvs__vo_bb_add(p->obj_bb + 4 * (size_t)p->nobj, p->seg + 4 * (size_t)i);
-		pvs__vo_bb_add(p->obj_bb + 4 * (size_t)p->nobj, p->seg + 4 * (size_t)i + 2);
+		pvs__vo_bb_empty(bb);
+		pvs__vo_bb_add(bb, p->seg + 4 * (size_t)i);
+		pvs__vo_bb_add(bb, p->seg + 4 * (size_t)i + 2);
 		p->obj_top[p->nobj++] = p->seg_top[i];
 	}
 }
@@ -13276,8 +13247,7 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 	double w, hh, cs;
 	size_t total = 0, cells;
 	uint32_t i, j;
-	p->bb[0] = p->bb[1] = DBL_MAX;
-	p->bb[2] = p->bb[3] = -DBL_MAX;
+	pvs__vo_bb_empty(p->bb);
 	for (i = 0; i < p->nobj; ++i) {
 		pvs__vo_bb_add(p->bb, p->obj_bb + 4 * (size_t)i);
 		pvs__vo_bb_add(p->bb, p->obj_bb + 4 * (size_t)i + 2);
@@ -13461,6 +13431,17 @@ typedef struct pvs__vctx {
 	int oom;
 } pvs__vctx;
 
+/* 0: OOM (sets c->oom) */
+PVS__STATIC int pvs__vo_reserve(pvs__vctx *c, void **p, uint32_t *cap, size_t need, size_t elem) {
+	size_t n = *cap;
+	if (need > 0x7fffffffu || !pvs__grow(c->al, p, &n, need, elem)) {
+		c->oom = 1;
+		return 0;
+	}
+	*cap = (uint32_t)n;
+	return 1;
+}
+
 PVS__STATIC void pvs__vctx_free(pvs__vctx *c) {
 	const pvs_allocator *a = c->al;
 	PVS__VO_FREE(a, c->obj, c->capobj, pvs__vobj);
@@ -13522,22 +13503,27 @@ PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs_
 	return 1;
 }
 
-/* Least t in [0, tmax] where ray x + t w enters cell grown by g, -1: miss */
-PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const double *w, double g, double tmax) {
-	double s0 = 0.0, s1 = tmax;
+/* Clips line x + t w, t in [*t0, *t1], to 2D box lo..hi; 0: misses (w[k] = 0, x[k] outside) */
+PVS__STATIC int pvs__vo_slab(const double *lo, const double *hi, const double *x, const double *w, double *t0,
+		double *t1) {
 	int k;
 	for (k = 0; k < 2; ++k) {
-		double lo = c->cmin[k] - g, hi = c->cmax[k] + g;
 		if (w[k] == 0.0) {
-			if (x[k] < lo || x[k] > hi) return -1.0;
+			if (x[k] < lo[k] || x[k] > hi[k]) return 0;
 		} else {
-			double u0 = (lo - x[k]) / w[k], u1 = (hi - x[k]) / w[k];
+			double u0 = (lo[k] - x[k]) / w[k], u1 = (hi[k] - x[k]) / w[k];
 			if (u0 > u1) { double t = u0; u0 = u1; u1 = t; }
-			if (u0 > s0) s0 = u0;
-			if (u1 < s1) s1 = u1;
+			if (u0 > *t0) *t0 = u0;
+			if (u1 < *t1) *t1 = u1;
 		}
 	}
-	return s0 <= s1 ? s0 : -1.0;
+	return 1;
+}
+
+/* Least t in [0, tmax] where ray x + t w enters cell grown by g, -1: miss */
+PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const double *w, double g, double tmax) {
+	double s0 = 0.0, s1 = tmax, lo[2] = {c->cmin[0] - g, c->cmin[1] - g}, hi[2] = {c->cmax[0] + g, c->cmax[1] + g};
+	return pvs__vo_slab(lo, hi, x, w, &s0, &s1) && s0 <= s1 ? s0 : -1.0;
 }
 
 /* 1 if ccw convex polygon v (n >= 3) meets cell grown by tol (separating axes) */
@@ -13561,23 +13547,31 @@ PVS__STATIC int pvs__vo_poly_meets_cell(const pvs__vctx *c, const double *v, uin
 	return 1;
 }
 
+/* Angle n points q (cell frame) subtend from centre: between their tangent vertices */
+PVS__STATIC double pvs__vo_subtended(const double *q, uint32_t n) {
+	double o[2] = {0.0, 0.0};
+	const double *a = q, *b = q;
+	uint32_t i;
+	for (i = 1; i < n; ++i) {
+		if (pvs__cross2(o, a, q + 2 * i) < 0.0) a = q + 2 * i;
+		if (pvs__cross2(o, b, q + 2 * i) > 0.0) b = q + 2 * i;
+	}
+	return atan2(a[0] * b[1] - a[1] * b[0], a[0] * b[0] + a[1] * b[1]);
+}
+
 PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint32_t *ids, uint32_t n, int32_t loop) {
 	pvs__vobj *o;
-	uint32_t i, lo = 0, hi = 0;
-	double origin[2] = {0.0, 0.0};
-	if (!pvs__vo_reserve(c->al, (void **)&c->obj, &c->capobj, (size_t)c->nobj + 1, sizeof(pvs__vobj)) ||
-		!pvs__vo_reserve(c->al, (void **)&c->vx, &c->capvx, 2 * ((size_t)c->nvx + n), sizeof(double)) ||
-		!pvs__vo_reserve(c->al, (void **)&c->vid, &c->capvid, (size_t)c->nvx + n, sizeof(uint32_t))) {
-		c->oom = 1;
+	uint32_t i;
+	if (!pvs__vo_reserve(c, (void **)&c->obj, &c->capobj, (size_t)c->nobj + 1, sizeof(pvs__vobj)) ||
+		!pvs__vo_reserve(c, (void **)&c->vx, &c->capvx, 2 * ((size_t)c->nvx + n), sizeof(double)) ||
+		!pvs__vo_reserve(c, (void **)&c->vid, &c->capvid, (size_t)c->nvx + n, sizeof(uint32_t)))
 		return PVS__VO_NONE;
-	}
 	o = c->obj + c->nobj;
 	PVS__ZERO(*o);
 	o->first = c->nvx;
 	o->n = n;
 	o->loop = loop;
-	o->bb[0] = o->bb[1] = DBL_MAX;
-	o->bb[2] = o->bb[3] = -DBL_MAX;
+	pvs__vo_bb_empty(o->bb);
 	for (i = 0; i < n; ++i) {
 		double *q = c->vx + 2 * ((size_t)c->nvx + i);
 		q[0] = pts[2 * i] - c->centre[0];
@@ -13585,16 +13579,8 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
 		c->vid[c->nvx + i] = ids[i];
 		pvs__vo_bb_add(o->bb, q);
 	}
-	for (i = 1; i < n; ++i) { /* tangent vertices from centre: subtended angle */
-		const double *q = c->vx + 2 * ((size_t)c->nvx + i);
-		if (pvs__cross2(origin, c->vx + 2 * ((size_t)c->nvx + lo), q) < 0.0) lo = i;
-		if (pvs__cross2(origin, c->vx + 2 * ((size_t)c->nvx + hi), q) > 0.0) hi = i;
-	}
-	{
-		const double *a = c->vx + 2 * ((size_t)c->nvx + lo), *b = c->vx + 2 * ((size_t)c->nvx + hi);
-		o->angle = atan2(a[0] * b[1] - a[1] * b[0], a[0] * b[0] + a[1] * b[1]);
-		if (o->angle < 0.0) o->angle = 0.0;
-	}
+	o->angle = pvs__vo_subtended(c->vx + 2 * (size_t)c->nvx, n);
+	if (o->angle < 0.0) o->angle = 0.0;
 	c->nvx += n;
 	return c->nobj++;
 }
@@ -13623,10 +13609,7 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 		if (ref < p->nloop) {
 			uint32_t hs = p->hull_start[ref], hn = p->hull_start[ref + 1] - hs;
 			if (p->loop_top[ref] >= h) {
-				for (j = 0; j < hn; ++j) {
-					loc[2 * j] = p->hull_pt[2 * (hs + j)] - c->centre[0];
-					loc[2 * j + 1] = p->hull_pt[2 * (hs + j) + 1] - c->centre[1];
-				}
+				for (j = 0; j < 2 * hn; ++j) loc[j] = p->hull_pt[2 * hs + j] - c->centre[j & 1];
 				if (!pvs__vo_poly_meets_cell(c, loc, hn)) {
 					pvs__vo_add_obj(c, p->hull_pt + 2 * hs, p->hull_vid + hs, hn, (int32_t)ref);
 					c->pcount[i] = c->nobj - c->pfirst[i];
@@ -13643,6 +13626,17 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 
 /* ---- exact hidden tests */
 
+/* 1 if (px, py) within tol of segment a-b */
+PVS__STATIC int pvs__vo_seg_near(const double *a, const double *b, double px, double py, double tol) {
+	double ex = b[0] - a[0], ey = b[1] - a[1], l2 = ex * ex + ey * ey, u, dx, dy;
+	u = l2 > 0.0 ? ((px - a[0]) * ex + (py - a[1]) * ey) / l2 : 0.0;
+	if (u < 0.0) u = 0.0;
+	if (u > 1.0) u = 1.0;
+	dx = a[0] + u * ex - px;
+	dy = a[1] + u * ey - py;
+	return dx * dx + dy * dy <= tol * tol;
+}
+
 /* 1 if x inside wall loop l (odd crossings), over tol from walls; only loops whose hull misses cell */
 PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x) {
 	const pvs__vprep *p = c->p;
@@ -13650,14 +13644,8 @@ PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x)
 	double px = x[0] + c->centre[0], py = x[1] + c->centre[1];
 	for (i = 0; i < n; ++i) {
 		const double *a = p->ring_pt + 2 * (s + i), *b = p->ring_pt + 2 * (s + (i + 1) % n);
-		double ex = b[0] - a[0], ey = b[1] - a[1], l2 = ex * ex + ey * ey, u, dx, dy;
-		u = l2 > 0.0 ? ((px - a[0]) * ex + (py - a[1]) * ey) / l2 : 0.0;
-		if (u < 0.0) u = 0.0;
-		if (u > 1.0) u = 1.0;
-		dx = a[0] + u * ex - px;
-		dy = a[1] + u * ey - py;
-		if (dx * dx + dy * dy <= c->tol * c->tol) return 0;
-		if ((a[1] > py) != (b[1] > py) && px < a[0] + (py - a[1]) * ex / ey) odd ^= 1u;
+		if (pvs__vo_seg_near(a, b, px, py, c->tol)) return 0;
+		if ((a[1] > py) != (b[1] > py) && px < a[0] + (py - a[1]) * (b[0] - a[0]) / (b[1] - a[1])) odd ^= 1u;
 	}
 	return (int)odd;
 }
@@ -13696,15 +13684,7 @@ PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const
 PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const double *x) {
 	const double *v = c->vx + 2 * (size_t)o->first;
 	uint32_t i;
-	if (o->n == 2) {
-		double ex = v[2] - v[0], ey = v[3] - v[1], l2 = ex * ex + ey * ey, u, dx, dy;
-		u = l2 > 0.0 ? ((x[0] - v[0]) * ex + (x[1] - v[1]) * ey) / l2 : 0.0;
-		if (u < 0.0) u = 0.0;
-		if (u > 1.0) u = 1.0;
-		dx = v[0] + u * ex - x[0];
-		dy = v[1] + u * ey - x[1];
-		return dx * dx + dy * dy <= c->tol * c->tol;
-	}
+	if (o->n == 2) return pvs__vo_seg_near(v, v + 2, x[0], x[1], c->tol);
 	for (i = 0; i < o->n; ++i) {
 		const double *a = v + 2 * i, *b = v + 2 * ((i + 1) % o->n);
 		double len = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
@@ -13719,6 +13699,12 @@ typedef struct pvs__vo_fan {
 	const double *cl, *ch;
 	double f[2], aL, aR, bb[4];
 } pvs__vo_fan;
+
+/* Pseudo-angle of q - x about unit direction f */
+PVS__STATIC double pvs__vo_fan_angle(const double *f, const double *x, const double *q) {
+	double a0 = q[0] - x[0], a1 = q[1] - x[1];
+	return pvs__vo_pangle(f[0] * a0 + f[1] * a1, f[0] * a1 - f[1] * a0);
+}
 
 /* Fan from x (outside cell); 0: no direction */
 PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fan *fn) {
@@ -13742,8 +13728,8 @@ PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fa
 		if (!(len > 0.0)) return 0;
 		fn->f[0] /= len;
 		fn->f[1] /= len;
-		fn->aL = pvs__vo_pangle(fn->f[0] * a0 + fn->f[1] * a1, fn->f[0] * a1 - fn->f[1] * a0);
-		fn->aR = pvs__vo_pangle(fn->f[0] * b0 + fn->f[1] * b1, fn->f[0] * b1 - fn->f[1] * b0);
+		fn->aL = pvs__vo_fan_angle(fn->f, x, cl);
+		fn->aR = pvs__vo_fan_angle(fn->f, x, ch);
 	}
 	fn->bb[0] = (x[0] < c->cmin[0] ? x[0] : c->cmin[0]) - tol;
 	fn->bb[1] = (x[1] < c->cmin[1] ? x[1] : c->cmin[1]) - tol;
@@ -13780,11 +13766,8 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 		if (pvs__cross2(x, v + 2 * lo, v + 2 * j) < 0.0) lo = j;
 		if (pvs__cross2(x, v + 2 * hi, v + 2 * j) > 0.0) hi = j;
 	}
-	{
-		double a0 = v[2 * lo] - x[0], a1 = v[2 * lo + 1] - x[1], b0 = v[2 * hi] - x[0], b1 = v[2 * hi + 1] - x[1];
-		plo = pvs__vo_pangle(f[0] * a0 + f[1] * a1, f[0] * a1 - f[1] * a0);
-		phi = pvs__vo_pangle(f[0] * b0 + f[1] * b1, f[0] * b1 - f[1] * b0);
-	}
+	plo = pvs__vo_fan_angle(f, x, v + 2 * lo);
+	phi = pvs__vo_fan_angle(f, x, v + 2 * hi);
 	if (plo <= phi) {
 		pieces = 1;
 		sp[0][0] = plo; sp[0][1] = phi;
@@ -13853,10 +13836,7 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
 	uint32_t i, ns = 0;
 	if (x[0] > c->cmin[0] - tol && x[0] < c->cmax[0] + tol && x[1] > c->cmin[1] - tol && x[1] < c->cmax[1] + tol)
 		return 0;
-	if (!pvs__vo_reserve(c->al, (void **)&c->span, &c->capspan, 2 * (size_t)n + 2, sizeof(pvs__vo_span))) {
-		c->oom = 1;
-		return 0;
-	}
+	if (!pvs__vo_reserve(c, (void **)&c->span, &c->capspan, 2 * (size_t)n + 2, sizeof(pvs__vo_span))) return 0;
 	if (!pvs__vo_fan_init(c, x, &fn)) return 0;
 	for (i = 0; i < n; ++i)
 		if (pvs__vo_obj_spans(c, c->obj + set[i], x, &fn, &ns)) return 1;
@@ -13895,16 +13875,10 @@ PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t n
 				pvs__vo_sides(p, q, c->corner, 4, &mn, &mx);
 				if (!(mn <= t && mx >= -t)) continue;
 			}
-			if (!pvs__vo_reserve(c->al, (void **)&c->lines, &c->caplines, 4 * ((size_t)c->nlines + 1),
-					sizeof(double))) {
-				c->oom = 1;
+			if (!pvs__vo_reserve(c, (void **)&c->lines, &c->caplines, 4 * ((size_t)c->nlines + 1), sizeof(double)))
 				return;
-			}
-			c->lines[4 * c->nlines] = p[0];
-			c->lines[4 * c->nlines + 1] = p[1];
-			c->lines[4 * c->nlines + 2] = q[0];
-			c->lines[4 * c->nlines + 3] = q[1];
-			++c->nlines;
+			memcpy(c->lines + 4 * c->nlines, p, 2 * sizeof(double));
+			memcpy(c->lines + 4 * c->nlines++ + 2, q, 2 * sizeof(double));
 		}
 }
 
@@ -13912,10 +13886,7 @@ PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t n
 PVS__STATIC void pvs__vo_g_add(pvs__vctx *c, uint32_t o) {
 	const pvs__vobj *b = c->obj + o;
 	uint32_t i;
-	if (!pvs__vo_reserve(c->al, (void **)&c->g, &c->capg, (size_t)c->ng + 1, sizeof(uint32_t))) {
-		c->oom = 1;
-		return;
-	}
+	if (!pvs__vo_reserve(c, (void **)&c->g, &c->capg, (size_t)c->ng + 1, sizeof(uint32_t))) return;
 	pvs__vo_tangent_lines(c, c->corner, 4, c->vx + 2 * (size_t)b->first, b->n, 0);
 	for (i = 0; i < c->ng; ++i) {
 		const pvs__vobj *a = c->obj + c->g[i];
@@ -13928,10 +13899,7 @@ PVS__STATIC void pvs__vo_g_add(pvs__vctx *c, uint32_t o) {
 
 PVS__STATIC void pvs__vo_ev_push(pvs__vctx *c, uint32_t *n, double t, double t0, double t1) {
 	if (!(t > t0 && t < t1)) return;
-	if (!pvs__vo_reserve(c->al, (void **)&c->ev, &c->capev, (size_t)*n + 1, sizeof(pvs__key_index))) {
-		c->oom = 1;
-		return;
-	}
+	if (!pvs__vo_reserve(c, (void **)&c->ev, &c->capev, (size_t)*n + 1, sizeof(pvs__key_index))) return;
 	c->ev[*n].key = t;
 	c->ev[*n].index = *n;
 	++*n;
@@ -13966,10 +13934,7 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 	if (c->cmin[1] < bb[1]) bb[1] = c->cmin[1];
 	if (c->cmax[0] > bb[2]) bb[2] = c->cmax[0];
 	if (c->cmax[1] > bb[3]) bb[3] = c->cmax[1];
-	if (!pvs__vo_reserve(c->al, (void **)&c->sub, &c->capsub, (size_t)c->ng + 1, sizeof(uint32_t))) {
-		c->oom = 1;
-		return 0;
-	}
+	if (!pvs__vo_reserve(c, (void **)&c->sub, &c->capsub, (size_t)c->ng + 1, sizeof(uint32_t))) return 0;
 	for (i = 0; i < c->ng; ++i) { /* blockers maybe between cell and segment */
 		const pvs__vobj *o = c->obj + c->g[i];
 		if (o->bb[0] > bb[2] + c->tol || o->bb[2] < bb[0] - c->tol || o->bb[1] > bb[3] + c->tol ||
@@ -14051,23 +14016,8 @@ PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const doub
 	uint32_t hit = PVS__VO_NONE;
 	++c->visit;
 	{
-		double lo[2], hi[2], org[2], dir[2];
-		int k;
-		lo[0] = 0.0; lo[1] = 0.0;
-		hi[0] = cs * gw; hi[1] = cs * gh;
-		org[0] = ox; org[1] = oy;
-		dir[0] = w[0]; dir[1] = w[1];
-		for (k = 0; k < 2; ++k) {
-			if (dir[k] == 0.0) {
-				if (org[k] < lo[k] || org[k] > hi[k]) return PVS__VO_NONE;
-			} else {
-				double u0 = (lo[k] - org[k]) / dir[k], u1 = (hi[k] - org[k]) / dir[k];
-				if (u0 > u1) { double t = u0; u0 = u1; u1 = t; }
-				if (u0 > s_in) s_in = u0;
-				if (u1 < s_out) s_out = u1;
-			}
-		}
-		if (s_in > s_out) return PVS__VO_NONE;
+		double lo[2] = {0.0, 0.0}, hi[2] = {cs * gw, cs * gh}, org[2] = {ox, oy};
+		if (!pvs__vo_slab(lo, hi, org, w, &s_in, &s_out) || s_in > s_out) return PVS__VO_NONE;
 	}
 	s = s_in;
 	ix = (int32_t)((ox + s * w[0]) / cs);
@@ -14122,12 +14072,10 @@ PVS__STATIC int pvs__vo_unit(double *w) {
 PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
 	uint32_t i, j, n = with_cell ? 4 : 0, total = n;
 	for (i = 0; i < c->nk; ++i) total += c->obj[c->k[i]].n;
-	if (!pvs__vo_reserve(c->al, (void **)&c->pts, &c->cappts, 2 * (size_t)total + 2, sizeof(double)) ||
-		!pvs__vo_reserve(c->al, (void **)&c->hkeys, &c->caphkeys, (size_t)total + 1, sizeof(pvs__key_index)) ||
-		!pvs__vo_reserve(c->al, (void **)&c->hidx, &c->caphidx, 2 * (size_t)total + 2, sizeof(uint32_t))) {
-		c->oom = 1;
+	if (!pvs__vo_reserve(c, (void **)&c->pts, &c->cappts, 2 * (size_t)total + 2, sizeof(double)) ||
+		!pvs__vo_reserve(c, (void **)&c->hkeys, &c->caphkeys, (size_t)total + 1, sizeof(pvs__key_index)) ||
+		!pvs__vo_reserve(c, (void **)&c->hidx, &c->caphidx, 2 * (size_t)total + 2, sizeof(uint32_t)))
 		return 0;
-	}
 	if (with_cell) memcpy(c->pts, c->corner, 8 * sizeof(double));
 	for (i = 0; i < c->nk; ++i) {
 		const pvs__vobj *o = c->obj + c->k[i];
@@ -14148,14 +14096,12 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	hn = pvs__hull2(c->pts, n, c->hkeys, c->hidx);
 	for (i = 0; i < hn; ++i) {
 		uint32_t a = c->hidx[i], b = c->hidx[(i + 1) % hn];
-		if (a >= 4 && b < 4) { /* aggregate -> cell (ccw): left supporting line */
-			sd[0].po[0] = c->pts[2 * a]; sd[0].po[1] = c->pts[2 * a + 1];
-			sd[0].pd[0] = c->pts[2 * a] - c->pts[2 * b]; sd[0].pd[1] = c->pts[2 * a + 1] - c->pts[2 * b + 1];
-			found |= pvs__vo_unit(sd[0].pd) ? 1u : 0u;
-		} else if (a < 4 && b >= 4) { /* cell -> aggregate: right one */
-			sd[1].po[0] = c->pts[2 * b]; sd[1].po[1] = c->pts[2 * b + 1];
-			sd[1].pd[0] = c->pts[2 * b] - c->pts[2 * a]; sd[1].pd[1] = c->pts[2 * b + 1] - c->pts[2 * a + 1];
-			found |= pvs__vo_unit(sd[1].pd) ? 2u : 0u;
+		if ((a < 4) != (b < 4)) { /* aggregate -> cell (ccw): left supporting line (s 0); cell -> aggregate: right */
+			const double *g = c->pts + 2 * (a < 4 ? b : a), *e = c->pts + 2 * (a < 4 ? a : b);
+			s = a < 4;
+			sd[s].po[0] = g[0]; sd[s].po[1] = g[1];
+			sd[s].pd[0] = g[0] - e[0]; sd[s].pd[1] = g[1] - e[1];
+			found |= pvs__vo_unit(sd[s].pd) ? 1u << s : 0u;
 		}
 	}
 	if (found != 3u) return 0;
@@ -14390,17 +14336,10 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
 	int k;
 	d[0] = b0[0] - a0[0];
 	d[1] = b0[1] - a0[1];
-	for (k = 0; k < 2; ++k) { /* clip to representable square */
-		if (d[k] == 0.0) {
-			if (a0[k] < lo || a0[k] > hi) return 0;
-		} else {
-			double v0 = (lo - a0[k]) / d[k], v1 = (hi - a0[k]) / d[k];
-			if (v0 > v1) { double t = v0; v0 = v1; v1 = t; }
-			if (v0 > t0) t0 = v0;
-			if (v1 < t1) t1 = v1;
-		}
+	{ /* clip to representable square */
+		double sq[4] = {lo, lo, hi, hi};
+		if (!pvs__vo_slab(sq, sq + 2, a0, d, &t0, &t1) || !(t1 > t0)) return 0;
 	}
-	if (!(t1 > t0)) return 0;
 	a[0] = a0[0] + t0 * d[0]; a[1] = a0[1] + t0 * d[1];
 	b[0] = a0[0] + t1 * d[0]; b[1] = a0[1] + t1 * d[1];
 	u[0] = b[0] - a[0];
@@ -14460,10 +14399,7 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
 			memcpy(out->a, ca, sizeof(ca));
 			memcpy(out->b, cb, sizeof(cb));
 		}
-		out->q[0] = (uint8_t)q[0][0];
-		out->q[1] = (uint8_t)q[0][1];
-		out->q[2] = (uint8_t)q[1][0];
-		out->q[3] = (uint8_t)q[1][1];
+		for (k = 0; k < 4; ++k) out->q[k] = (uint8_t)q[k >> 1][k & 1];
 		out->q[4] = (uint8_t)qh;
 		return 1;
 	}
@@ -14494,7 +14430,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 	PVS__ZERO(cur);
 	memset(sd, 0, sizeof(sd));
 	pvs__vo_g_add(c, seed);
-	if (!pvs__vo_reserve(c->al, (void **)&c->k, &c->capk, PVS__VO_MAXG + 1, sizeof(uint32_t))) { c->oom = 1; return; }
+	if (!pvs__vo_reserve(c, (void **)&c->k, &c->capk, PVS__VO_MAXG + 1, sizeof(uint32_t))) return;
 	c->k[c->nk++] = seed;
 	++c->st.seeds;
 	if (!pvs__vo_tangents(c, sd, 3)) return;
@@ -14607,10 +14543,7 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 		++c->st.dropped;
 		return;
 	}
-	if (!pvs__vo_reserve(c->al, (void **)&c->out, &c->capout, (size_t)c->nout + 1, sizeof(pvs__vo_cand))) {
-		c->oom = 1;
-		return;
-	}
+	if (!pvs__vo_reserve(c, (void **)&c->out, &c->capout, (size_t)c->nout + 1, sizeof(pvs__vo_cand))) return;
 	c->out[c->nout++] = cand;
 	++c->st.dense;
 }
@@ -14903,15 +14836,16 @@ PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, f
 		pvs__put32(o + PVS__VO_HEAD + 4 * b, n);
 		for (i = b * PVS__VO_BLOCK; b < blocks && i < cells && i < (b + 1) * PVS__VO_BLOCK; ++i) n += counts[i];
 	}
-	memcpy(o + PVS__VO_HEAD + 4 * ((size_t)blocks + 1), counts, cells);
-	memcpy(o + PVS__VO_HEAD + 4 * ((size_t)blocks + 1) + cells, scales, cells);
+	o += PVS__VO_HEAD + 4 * ((size_t)blocks + 1);
+	memcpy(o, counts, cells);
+	memcpy(o + cells, scales, cells);
+	o += 2 * (size_t)cells;
 	if (!stride) {
-		if (n) memcpy(o + PVS__VO_HEAD + 4 * ((size_t)blocks + 1) + 2 * (size_t)cells, bytes, 5 * (size_t)n);
+		if (n) memcpy(o, bytes, 5 * (size_t)n);
 	} else {
-		uint8_t *q = o + PVS__VO_HEAD + 4 * ((size_t)blocks + 1) + 2 * (size_t)cells;
 		for (i = 0; i < cells; ++i) {
-			memcpy(q, bytes + (size_t)i * stride, 5 * (size_t)counts[i]);
-			q += 5 * (size_t)counts[i];
+			memcpy(o, bytes + (size_t)i * stride, 5 * (size_t)counts[i]);
+			o += 5 * (size_t)counts[i];
 		}
 	}
 }
@@ -15178,9 +15112,9 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
 		return 0;
 	}
 	for (i = 0; i < p->nobj; ++i) {
-		uint32_t ref = p->obj_ref[i], cnt, k, lo = 0, hi = 0;
+		uint32_t ref = p->obj_ref[i], cnt, k;
 		const double *pts;
-		double o[2] = {0.0, 0.0}, loc[2 * PVS__VO_MAXH], ang;
+		double loc[2 * PVS__VO_MAXH], ang;
 		if (!(p->obj_top[i] >= ctop)) continue;
 		if (ref < p->nloop) {
 			pts = p->hull_pt + 2 * (size_t)p->hull_start[ref];
@@ -15189,16 +15123,8 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
 			pts = p->seg + 4 * (size_t)(ref - p->nloop);
 			cnt = 2;
 		}
-		for (k = 0; k < cnt; ++k) {
-			loc[2 * k] = pts[2 * k] - centre[0];
-			loc[2 * k + 1] = pts[2 * k + 1] - centre[1];
-		}
-		for (k = 1; k < cnt; ++k) {
-			if (pvs__cross2(o, loc + 2 * lo, loc + 2 * k) < 0.0) lo = k;
-			if (pvs__cross2(o, loc + 2 * hi, loc + 2 * k) > 0.0) hi = k;
-		}
-		ang = atan2(loc[2 * lo] * loc[2 * hi + 1] - loc[2 * lo + 1] * loc[2 * hi],
-				loc[2 * lo] * loc[2 * hi] + loc[2 * lo + 1] * loc[2 * hi + 1]);
+		for (k = 0; k < 2 * cnt; ++k) loc[k] = pts[k] - centre[k & 1];
+		ang = pvs__vo_subtended(loc, cnt);
 		if (!(ang > 0.0)) continue;
 		key[m].key = p->obj_top[i];
 		key[m].index = m;
@@ -15381,13 +15307,10 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t c
 	r = pvs__vprep_create(&al, seg, top, d->segment_count, &p);
 	if (r != PVS_OK) goto done;
 	for (k = 0; k < 2; ++k) { cmin[k] = d->cell_min[k]; cmax[k] = d->cell_max[k]; }
-	if (!pvs__vctx_init(&c, &al, p, cmin, cmax, d->range)) {
-		pvs__vctx_free(&c);
-		r = PVS_ERROR_OUT_OF_MEMORY;
-		goto done;
+	if (pvs__vctx_init(&c, &al, p, cmin, cmax, d->range)) { /* else c.oom */
+		c.max_seeds = d->max_seeds ? d->max_seeds : 16;
+		if (pvs__vctx_slice(&c, 0.5f)) pvs__vo_run_slice(&c);
 	}
-	c.max_seeds = d->max_seeds ? d->max_seeds : 16;
-	if (pvs__vctx_slice(&c, 0.5f)) pvs__vo_run_slice(&c);
 	if (c.oom) {
 		pvs__vctx_free(&c);
 		r = PVS_ERROR_OUT_OF_MEMORY;
@@ -15700,13 +15623,11 @@ PVS__STATIC void pvs__po_base(const double *pl, double big, pvs__po_wind *w) {
 	double up[3] = {0, 0, 0}, right[3], o[3], dot, len;
 	int k;
 	up[a == 2 ? 0 : 2] = 1.0;
-	dot = up[0] * pl[0] + up[1] * pl[1] + up[2] * pl[2];
+	dot = pvs__sv_dot(up, pl);
 	PVS__FOR3(k) up[k] -= dot * pl[k];
-	len = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
+	len = sqrt(pvs__sv_dot(up, up));
 	PVS__FOR3(k) up[k] = up[k] / len * big;
-	right[0] = up[1] * pl[2] - up[2] * pl[1];
-	right[1] = up[2] * pl[0] - up[0] * pl[2];
-	right[2] = up[0] * pl[1] - up[1] * pl[0];
+	pvs__sv_cross(up, pl, right);
 	PVS__FOR3(k) o[k] = pl[k] * pl[3];
 	w->n = 4;
 	PVS__FOR3(k) {
@@ -15846,16 +15767,15 @@ PVS__STATIC int pvs__po_unit_axis(const double *pl) {
 	return -1;
 }
 
+PVS__STATIC int pvs__po_class(double lo, double hi, double eps) {
+	return hi > eps ? lo < -eps ? 0 : 1 : lo < -eps ? -1 : 2;
+}
+
 /* pvs__po_side for normal +-e_axis from q's box b (min, max): same doubles (x -> +-x - d monotone, rounded once) */
 PVS__STATIC int pvs__po_side_box(const double *b, const double *pl, int axis, double eps) {
 	double lo = pl[axis] > 0.0 ? b[axis] - pl[3] : -b[axis + 3] - pl[3];
 	double hi = pl[axis] > 0.0 ? b[axis + 3] - pl[3] : -b[axis] - pl[3];
-	lo = lo < 0.0 ? lo : 0.0;
-	hi = hi > 0.0 ? hi : 0.0;
-	if (hi > eps && lo < -eps) return 0;
-	if (hi > eps) return 1;
-	if (lo < -eps) return -1;
-	return 2;
+	return pvs__po_class(lo < 0.0 ? lo : 0.0, hi > 0.0 ? hi : 0.0, eps);
 }
 
 PVS__STATIC int pvs__po_side(const pvs__po_poly *q, const double *pl, double eps) {
@@ -15866,10 +15786,7 @@ PVS__STATIC int pvs__po_side(const pvs__po_poly *q, const double *pl, double eps
 		lo = s < lo ? s : lo;
 		hi = s > hi ? s : hi;
 	}
-	if (hi > eps && lo < -eps) return 0;
-	if (hi > eps) return 1;
-	if (lo < -eps) return -1;
-	return 2;
+	return pvs__po_class(lo, hi, eps);
 }
 
 /* Splits q by table plane id into *front, *back (empty if no part of q there); q kept. Cap: plane's base square clipped
@@ -17211,10 +17128,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	pvs__po_box_down(p, box, p->root, pvs__po_start_leaf, &f);
 	for (k = 0; k < p->solids; ++k)
 		if (pvs__box_overlap(box, p->solid_box + k))
-			for (i = p->so_first[k]; i < p->so_first[k + 1]; ++i) {
-				uint32_t o = p->so[i];
-				pvs_bitset_set(bits, o);
-			}
+			for (i = p->so_first[k]; i < p->so_first[k + 1]; ++i) pvs_bitset_set(bits, p->so[i]);
 	pvs__po_flow_run(&f);
 	if (f.cut || f.oom) {
 		pvs__po_flood(&f);
