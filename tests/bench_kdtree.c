@@ -101,5 +101,41 @@ int main(void) {
         pvs_scene_destroy(scene);
         free(pos); free(idx); free(objs);
     }
+
+    {
+        /* slivers crossing the middle in every direction (tests/test_kdtree.c's adversarial scene 2): their boxes
+           overlap there, the refs pool runs out; how the pool is shared decides the leaves rays meet */
+        const uint32_t m = 20000, rays = 100000;
+        float *pos = (float *)malloc(9 * (size_t)m * sizeof(float));
+        uint32_t *idx = (uint32_t *)malloc(3 * (size_t)m * sizeof(uint32_t)), hits = 0;
+        pvs_object_desc obj;
+        pvs_scene_desc sd;
+        pvs_scene *scene;
+        for (i = 0; i < m; ++i) {
+            float a = 3.14159265f * frand(), y = 20.0f * frand(), cx = 50.0f * cosf(a), cz = 50.0f * sinf(a);
+            float *v = pos + 9 * (size_t)i;
+            v[0] = -cx; v[1] = y; v[2] = -cz; v[3] = cx; v[4] = y; v[5] = cz; v[6] = cx; v[7] = y + 0.001f; v[8] = cz;
+            idx[3 * i] = 3 * i; idx[3 * i + 1] = 3 * i + 1; idx[3 * i + 2] = 3 * i + 2;
+        }
+        memset(&obj, 0, sizeof(obj));
+        obj.triangle_count = m;
+        memset(&sd, 0, sizeof(sd));
+        sd.positions = pos; sd.vertex_count = 3 * m; sd.indices = idx; sd.triangle_count = m;
+        sd.objects = &obj; sd.object_count = 1;
+        if (pvs_scene_create(&sd, &scene, &err) != PVS_OK) { printf("scene failed: %s\n", err.message); return 1; }
+        t0 = now_ms();
+        for (i = 0; i < rays; ++i) {
+            float o[3], d[3];
+            pvs_hit h;
+            o[0] = 100.0f * frand() - 50.0f; o[1] = 20.0f * frand(); o[2] = 100.0f * frand() - 50.0f;
+            d[0] = 2.0f * frand() - 1.0f; d[1] = 0.2f * frand() - 0.1f; d[2] = 2.0f * frand() - 1.0f;
+            hits += (uint32_t)pvs_scene_raycast(scene, o, d, 1e4f, &h);
+        }
+        t0 = now_ms() - t0;
+        printf("# %u crossing slivers: %u rays, %u hits\n", m, rays, hits);
+        printf("BENCH rays_per_s_slivers %.0f rays/s\n", rays / (t0 * 1e-3));
+        pvs_scene_destroy(scene);
+        free(pos); free(idx);
+    }
     return 0;
 }
