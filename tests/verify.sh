@@ -245,6 +245,10 @@ if [ "${MAPS:-1}" != 0 ]; then
 fi
 # every other OpenArena map, about 30 cells each (ALL_MAPS=1; about 20 minutes): tests/maps_all.sh
 if [ "${ALL_MAPS:-0}" = 1 ]; then sh tests/maps_all.sh "$T/all_maps" || fail=1; fi
+# Nexuiz's 40 maps (NEXUIZ_MAPS=1; package nexuiz-data; Quake 3 BSPs made by other hands), the same way
+if [ "${NEXUIZ_MAPS:-0}" = 1 ]; then
+  PVS_MAPS_PK3S=${PVS_NEXUIZ_PK3:-/usr/share/games/nexuiz/data/data.pk3} sh tests/maps_all.sh "$T/nexuiz_maps" || fail=1
+fi
 # Freedoom's and FreeDM's 100 Doom maps, about 30 cells each (DOOM_MAPS=1; package freedoom; about 100 minutes)
 if [ "${DOOM_MAPS:-0}" = 1 ]; then sh tests/doom_maps.sh "$T/doom_maps" || fail=1; fi
 [ $fail -eq 0 ] && echo "verify: ok" || echo "verify: FAILED"
