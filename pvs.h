@@ -2661,6 +2661,11 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 	return PVS_OK;
 }
 
+/* x times fraction f / 2^16 (f <= 2^16), rounded down: <= x */
+PVS__STATIC size_t pvs__kd_share(size_t x, uint64_t f) {
+	return (size_t)((x >> 16) * f + ((x & 0xffffu) * f >> 16));
+}
+
 /* Splits `node` (refs[base..base + n) atop stack, cell `box`) or makes leaf. Binned SAH, 3 axes (Bittner 2002 §4.4;
    binning after Wald 2007); counts exact for closed-interval split below (sampled in big nodes). Budgets (straddlers go
    both sides: memory quadratic if boxes overlap everywhere): 2 pools from pvs_kdtree_create, of refs a split adds (l +
@@ -2800,9 +2805,10 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	rbox.min[axis] = split;
 	nl = w - base;
 	nr = top - (base + n);
-	{ /* right refs atop stack: built first */
-		size_t rr = b->refs_left - (nl + nr - n), rn = b->nodes_left - 2, sr = (size_t)((double)rr * nr / (nl + nr)),
-			   sn = (size_t)((double)rn * nr / (nl + nr));
+	{ /* right refs atop stack: built first; its share a 16-bit fraction (integers: one tree on every FPU) */
+		uint64_t f = ((uint64_t)nr << 16) / (nl + nr);
+		size_t rr = b->refs_left - (nl + nr - n), rn = b->nodes_left - 2, sr = pvs__kd_share(rr, f),
+			   sn = pvs__kd_share(rn, f);
 		b->refs_left = sr;
 		b->nodes_left = sn;
 		r = pvs__kd_build(b, child + 1, base + n, nr, &rbox, depth + 1);

@@ -245,7 +245,7 @@ if [ "${MAPS:-1}" != 0 ]; then
 fi
 # every other OpenArena map, about 30 cells each (ALL_MAPS=1; about 20 minutes): tests/maps_all.sh
 if [ "${ALL_MAPS:-0}" = 1 ]; then sh tests/maps_all.sh "$T/all_maps" || fail=1; fi
-# Nexuiz's 40 maps (NEXUIZ_MAPS=1; package nexuiz-data; Quake 3 BSPs made by other hands), the same way
+# Nexuiz's 39 maps (NEXUIZ_MAPS=1; package nexuiz-data; Quake 3 BSPs made by other hands), the same way
 if [ "${NEXUIZ_MAPS:-0}" = 1 ]; then
   PVS_MAPS_PK3S=${PVS_NEXUIZ_PK3:-/usr/share/games/nexuiz/data/data.pk3} sh tests/maps_all.sh "$T/nexuiz_maps" || fail=1
 fi
