@@ -2670,7 +2670,7 @@ PVS__STATIC size_t pvs__kd_share(size_t x, uint64_t f) {
    binning after Wald 2007); counts exact for closed-interval split below (sampled in big nodes). Budgets (straddlers go
    both sides: memory quadratic if boxes overlap everywhere): 2 pools from pvs_kdtree_create, of refs a split adds (l +
    r - n) and nodes (2 per split); unaffordable split not taken (bigger leaf). Children share what is left by ref count,
-   right's unspent to left (a pool spent in build order left one side a leaf of 48,319 triangles on a Nexuiz map) */
+   right's unspent to left (spent in build order, a pool left one side a leaf of 48,319 triangles: BENCHMARKS.md) */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
 		uint32_t depth) {
 	pvs_kdtree *t = b->tree;
